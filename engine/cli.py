@@ -1,0 +1,69 @@
+"""`python -m engine <command>`: the engine's commands. Errors print one line and exit with status 2."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from engine.errors import InputError
+
+
+def _build_scene(args: argparse.Namespace) -> None:
+    from engine.scene_build import BuildConfig, build_scene
+
+    build_scene(Path(args.renders), Path(args.out), BuildConfig(max_points=args.max_points, seed=args.seed))
+
+
+def _info(args: argparse.Namespace) -> None:
+    from engine.scene import load_scene
+
+    scene = load_scene(args.scene)
+    cam = scene.cameras[0]
+    print(f"{scene.root}: {len(scene.cameras)} views ({len(scene.train)} train, {len(scene.test)} test), "
+          f"{cam.width}x{cam.height}, {len(scene.points)} points")
+    for obj in scene.objects:
+        print(f"  object {obj.id}: {obj.name}{' (target)' if obj.target else ''}")
+    print(f"  masks: {scene.masks is not None}, depth: {scene.depths is not None}, gt views: {len(scene.gt_images)}, "
+          f"hole masks: {len(scene.holes)}")
+
+
+def _preview(args: argparse.Namespace) -> None:
+    from engine.preview import write_scene_preview
+    from engine.scene import load_scene
+
+    path = write_scene_preview(load_scene(args.scene), Path(args.out), rows=args.rows)
+    print(f"wrote {path}")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="python -m engine", description="splatfill engine")
+    sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("build-scene", help="turn make_scene.py's renders into a scene folder")
+    p.add_argument("--renders", required=True)
+    p.add_argument("--out", required=True)
+    p.add_argument("--max-points", type=int, default=30_000)
+    p.add_argument("--seed", type=int, default=0)
+    p.set_defaults(run=_build_scene)
+    p = sub.add_parser("info", help="load a scene folder and summarise it")
+    p.add_argument("--scene", required=True)
+    p.set_defaults(run=_info)
+    p = sub.add_parser("preview", help="contact sheet of image / gt / mask / depth / hole per view")
+    p.add_argument("--scene", required=True)
+    p.add_argument("--out", required=True, help="PNG file to write")
+    p.add_argument("--rows", type=int, default=3, help="number of views shown")
+    p.set_defaults(run=_preview)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        args.run(args)
+    except InputError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("error: interrupted; nothing was written over existing files", file=sys.stderr)
+        return 130
+    return 0

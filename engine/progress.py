@@ -1,0 +1,42 @@
+"""Progress for long work: JSON lines on stdout for the Blender add-on, a bar for people.
+
+Each JSON line is one object: {"stage", "step", "total", "seconds", ...extra}. When stdout is a terminal
+(and SPLATFILL_PROGRESS is not "json") a tqdm bar on stderr is shown instead.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+
+from tqdm import tqdm
+
+
+class Progress:
+    """Reports `step` of `total` for one named stage."""
+
+    def __init__(self, stage: str, total: int) -> None:
+        self.stage, self.total, self.start = stage, total, time.monotonic()
+        self.json = os.environ.get("SPLATFILL_PROGRESS") == "json" or not sys.stdout.isatty()
+        self.bar = None if self.json else tqdm(total=total, desc=stage, file=sys.stderr, leave=False)
+
+    def update(self, step: int, **extra: float | int | str) -> None:
+        if self.bar is not None:
+            self.bar.n = step
+            self.bar.set_postfix(extra, refresh=True)
+            return
+        record = {"stage": self.stage, "step": step, "total": self.total,
+                  "seconds": round(time.monotonic() - self.start, 3), **extra}
+        print(json.dumps(record), flush=True)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def emit(event: str, **fields: object) -> None:
+    """One non-progress JSON line (e.g. {"event": "done", "out": ...}) for the add-on; silent on a TTY."""
+    if os.environ.get("SPLATFILL_PROGRESS") == "json" or not sys.stdout.isatty():
+        print(json.dumps({"event": event, **fields}), flush=True)

@@ -1,0 +1,132 @@
+"""Make a procedural 360-degree scene with exact ground truth for object removal.
+
+    blender -b -P scripts/make_scene.py -- --family livingroom --out scenes/living [options]
+    .venv-blender/bin/python scripts/make_scene.py --family livingroom --out scenes/living [options]
+
+Blender renders (Cycles) the views with and without the target object as multi-part EXRs; the engine
+(`python -m engine build-scene`, in its own environment) turns them into the scene folder described
+in engine/scene.py. The same arguments give the same scene.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import random
+import shutil
+import sys
+import tempfile
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from blender_entry import REPO_ROOT, add_repo_to_path, script_args  # noqa: E402
+
+add_repo_to_path()
+
+import bpy  # noqa: E402
+from mathutils import noise  # noqa: E402
+
+from addon.engine_call import EngineError, run_engine  # noqa: E402
+from scenegen import environment, render  # noqa: E402
+from scenegen.families import FAMILIES  # noqa: E402
+
+TEST_EVERY = 10  # about 90/10 train/test, as in the paper
+
+
+@dataclass
+class SceneConfig:
+    family: str = "tabletop"
+    out: str = "scene"
+    views: int = 100
+    res: int = 640
+    samples: int = 64
+    seed: int = 0
+    orbit: str = "360"
+    gt: str = "all"
+
+
+def parse_args(argv: list[str]) -> SceneConfig:
+    parser = argparse.ArgumentParser(prog="make_scene.py", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--family", choices=sorted(FAMILIES), required=True)
+    parser.add_argument("--out", required=True, help="new folder for the scene")
+    parser.add_argument("--views", type=int, default=SceneConfig.views)
+    parser.add_argument("--res", type=int, default=SceneConfig.res, help="image width in pixels (height = 3/4)")
+    parser.add_argument("--samples", type=int, default=SceneConfig.samples, help="Cycles samples per pixel")
+    parser.add_argument("--seed", type=int, default=SceneConfig.seed)
+    parser.add_argument("--orbit", choices=["360", "hemisphere"], default=SceneConfig.orbit)
+    parser.add_argument("--gt", choices=["all", "test"], default=SceneConfig.gt,
+                        help="render gt/ for every view or only for test views")
+    args = parser.parse_args(argv)
+    if args.views < 2 or args.res < 16 or args.samples < 1:
+        parser.error("need --views >= 2, --res >= 16 and --samples >= 1")
+    return SceneConfig(**vars(args))
+
+
+def split_views(names: list[str]) -> dict[str, list[str]]:
+    offset = min(TEST_EVERY // 2, len(names) - 1)  # views 5, 15, 25, ...; at least one test view
+    test = [n for i, n in enumerate(names) if i % TEST_EVERY == offset]
+    return {"train": [n for n in names if n not in test], "test": test}
+
+
+def build_blender_scene(config: SceneConfig):
+    """Model the family's scene from the seed; returns its SceneSpec."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    rng = random.Random(f"{config.family}:{config.seed}")
+    noise.seed_set(config.seed)
+    spec = FAMILIES[config.family](rng)
+    environment.add_dome(rng, [(0.55, 0.6, 0.65), (0.75, 0.72, 0.62), (0.4, 0.45, 0.35)])
+    environment.add_lights(rng)
+    return spec, rng
+
+
+def render_scene(config: SceneConfig, staging: Path) -> None:
+    spec, rng = build_blender_scene(config)
+    width, height = render.configure_cycles(config.res, config.samples, config.seed)
+    camera = render.add_camera()
+    poses = render.orbit_poses(spec.focus, spec.distance, spec.elevation, config.views, config.orbit, rng)
+    names = [f"{i:04d}.png" for i in range(config.views)]
+    split = split_views(names)
+    objects = [{"id": obj.pass_index, "name": obj.name, "target": target} for obj, target in spec.objects]
+    (staging / "cameras.json").write_text(json.dumps(
+        [render.colmap_record(n, p, width, height) for n, p in zip(names, poses, strict=True)], indent=1))
+    (staging / "objects.json").write_text(json.dumps(objects, indent=1))
+    (staging / "split.json").write_text(json.dumps(split, indent=1))
+    (staging / "meta.json").write_text(json.dumps(
+        {"generator": "scripts/make_scene.py", "blender": bpy.app.version_string, **asdict(config)}, indent=1))
+    render.render_views(camera, poses, names, staging / "with", "images")
+    spec.target.hide_render = True
+    gt_names = names if config.gt == "all" else split["test"]
+    gt_poses = [poses[names.index(n)] for n in gt_names]
+    render.render_views(camera, gt_poses, gt_names, staging / "without", "gt")
+
+
+def main(argv: list[str]) -> int:
+    config = parse_args(argv)
+    out = Path(config.out).resolve()
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        print(f"error: output {out} already exists and is not empty: choose a new folder or delete it",
+              file=sys.stderr)
+        return 2
+    out.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.renders-", dir=out.parent))
+    start = time.monotonic()
+    try:
+        render_scene(config, staging)
+        run_engine(["build-scene", "--renders", str(staging), "--out", str(out)])
+    except EngineError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    print(f"[make_scene] wrote {out} in {time.monotonic() - start:.1f} s (repo {REPO_ROOT})", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    code = main(script_args())
+    if bpy.app.background and bpy.app.binary_path:
+        sys.exit(code)  # under `blender -b -P`, end Blender with the script's status
+    elif code:
+        sys.exit(code)

@@ -1,0 +1,1 @@
+"""Procedural Blender scenes with exact ground truth (runs inside Blender's Python)."""

@@ -1,0 +1,56 @@
+"""Shared fixtures: tiny generated scenes, made once per test session through the real generator."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parent.parent
+TINY = ["--views", "8", "--res", "96", "--samples", "4", "--seed", "3"]
+
+
+def blender_command(script: str, args: list[str]) -> list[str]:
+    """Run a script the way the README does: through $BLENDER if set, else the bpy environment."""
+    blender = os.environ.get("BLENDER")
+    if blender:
+        return [blender, "-b", "--factory-startup", "-P", str(REPO / script), "--", *args]
+    python = REPO / ".venv-blender" / "bin" / "python"
+    if not python.is_file():
+        pytest.fail(f"{python} missing: run `make setup` (or set BLENDER=/path/to/blender)")
+    return [str(python), str(REPO / script), *args]
+
+
+def make_scene(out: Path, family: str, extra: list[str] = TINY, env: dict | None = None,
+               check: bool = True) -> subprocess.CompletedProcess:
+    env = {**os.environ, "SPLATFILL_ENGINE_PYTHON": sys.executable, **(env or {})}
+    proc = subprocess.run(blender_command("scripts/make_scene.py", ["--family", family, "--out", str(out), *extra]),
+                          capture_output=True, text=True, env=env, cwd=REPO)
+    if check and proc.returncode != 0:
+        pytest.fail(f"make_scene failed ({proc.returncode}):\n{proc.stderr[-2000:]}")
+    return proc
+
+
+@pytest.fixture(scope="session")
+def scenes_dir(tmp_path_factory) -> Path:
+    return tmp_path_factory.mktemp("scenes")
+
+
+@pytest.fixture(scope="session")
+def living_scene(scenes_dir) -> Path:
+    out = scenes_dir / "livingroom"
+    make_scene(out, "livingroom")
+    return out
+
+
+@pytest.fixture(scope="session", params=["tabletop", "statue", "livingroom"])
+def any_scene(request, scenes_dir, living_scene) -> Path:
+    if request.param == "livingroom":
+        return living_scene
+    out = scenes_dir / request.param
+    if not out.exists():
+        make_scene(out, request.param)
+    return out
