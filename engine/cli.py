@@ -36,6 +36,17 @@ def _preview(args: argparse.Namespace) -> None:
     print(f"wrote {path}")
 
 
+def _version(args: argparse.Namespace) -> None:
+    import torch
+
+    from engine import __version__
+    from engine.progress import emit
+
+    print(f"splatfill engine {__version__}, torch {torch.__version__}, CUDA {torch.cuda.is_available()}",
+          file=sys.stderr)
+    emit("version", version=__version__, torch=torch.__version__, cuda=torch.cuda.is_available())
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m engine", description="splatfill engine")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -53,6 +64,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="PNG file to write")
     p.add_argument("--rows", type=int, default=3, help="number of views shown")
     p.set_defaults(run=_preview)
+    p = sub.add_parser("version", help="engine, torch and CUDA versions (the add-on's health check)")
+    p.set_defaults(run=_version)
     return parser
 
 

@@ -7,10 +7,10 @@ zlib and cv2 are imported before it here, and nothing else in the engine imports
 from __future__ import annotations
 
 import zlib  # noqa: F401,I001  -- order matters, see the module docstring
-import cv2  # noqa: F401
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import cv2  # noqa: F401
 import numpy as np
 import pycolmap
 

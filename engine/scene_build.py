@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from engine.camera import Camera, backproject, pixel_grid, project, sample_nearest
+from engine.camera import Camera, backproject, pixel_grid, project
 from engine.colmap_model import ColmapModel, write_model
 from engine.errors import InputError
 from engine.image_io import linear_to_srgb8, read_exr_channels, write_depth, write_png

@@ -27,10 +27,10 @@ add_repo_to_path()
 
 import bpy  # noqa: E402
 from mathutils import noise  # noqa: E402
-
-from addon.engine_call import EngineError, run_engine  # noqa: E402
 from scenegen import environment, render  # noqa: E402
 from scenegen.families import FAMILIES  # noqa: E402
+
+from addon.engine_call import EngineError, run_engine  # noqa: E402
 
 TEST_EVERY = 10  # about 90/10 train/test, as in the paper
 

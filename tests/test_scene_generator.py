@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import json
 import zlib  # noqa: F401,I001  -- before pycolmap, see engine/colmap_model.py
-import cv2  # noqa: F401
 from pathlib import Path
 
+import cv2  # noqa: F401
 import numpy as np
 import pycolmap
 import pytest
-
 from conftest import make_scene
+
 from engine.camera import backproject, pixel_grid, project
 from engine.scene import load_scene
 

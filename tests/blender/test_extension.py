@@ -1,0 +1,49 @@
+"""The extension: its manifest validates, its zip builds, installs, registers, runs the engine, unregisters."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import addon_utils
+import bpy
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+EXT_TOOL = Path(bpy.utils.system_resource("SCRIPTS")) / "addons_core" / "bl_pkg" / "cli" / "blender_ext.py"
+MODULE = "bl_ext.user_default.splatfill"
+
+
+@pytest.fixture(scope="module")
+def extension_zip(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("dist")
+    proc = subprocess.run([sys.executable, str(EXT_TOOL), "build", "--source-dir", str(REPO), "--output-dir",
+                           str(out)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    return next(out.glob("splatfill-*.zip"))
+
+
+def test_manifest_validates():
+    proc = subprocess.run([sys.executable, str(EXT_TOOL), "validate", str(REPO)], capture_output=True, text=True)
+    assert proc.returncode == 0 and "Success" in proc.stdout, proc.stdout + proc.stderr
+
+
+def test_zip_carries_the_code_but_no_environments_or_tests(extension_zip: Path):
+    names = zipfile.ZipFile(extension_zip).namelist()
+    assert "blender_manifest.toml" in names and "engine/scene.py" in names and "operators/check_engine.py" in names
+    assert not [n for n in names if n.startswith((".venv", "tests/", ".git"))]
+
+
+def test_extension_installs_registers_runs_the_engine_and_unregisters(extension_zip: Path, monkeypatch):
+    monkeypatch.setenv("SPLATFILL_ENGINE_PYTHON", str(REPO / ".venv" / "bin" / "python"))
+    result = bpy.ops.extensions.package_install_files(filepath=str(extension_zip), repo="user_default",
+                                                      enable_on_install=True)
+    assert result == {"FINISHED"}
+    assert MODULE in bpy.context.preferences.addons
+    assert bpy.context.preferences.addons[MODULE].preferences.device == "cuda"
+    assert bpy.ops.splatfill.check_engine() == {"FINISHED"}  # a real engine subprocess answered
+    addon_utils.disable(MODULE, default_set=True)
+    assert MODULE not in bpy.context.preferences.addons
+    assert not hasattr(bpy.types, "SPLATFILL_OT_check_engine")
