@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from engine.errors import InputError
+from engine.errors import Cancelled, InputError
 
 
 def _build_scene(args: argparse.Namespace) -> None:
@@ -34,6 +34,16 @@ def _preview(args: argparse.Namespace) -> None:
 
     path = write_scene_preview(load_scene(args.scene), Path(args.out), rows=args.rows)
     print(f"wrote {path}")
+
+
+def _train(args: argparse.Namespace) -> None:
+    from engine.train_config import config_from_args
+    from engine.train_run import train
+
+    metrics = train(config_from_args(args), resume=args.resume)
+    print(f"test PSNR {metrics['psnr']:.2f} dB, SSIM {metrics['ssim']:.4f}, identity mIoU "
+          f"{metrics['identity_miou']:.3f}, {metrics['gaussians']} Gaussians, {metrics['train_seconds']:.0f} s",
+          file=sys.stderr)
 
 
 def _version(args: argparse.Namespace) -> None:
@@ -64,6 +74,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="PNG file to write")
     p.add_argument("--rows", type=int, default=3, help="number of views shown")
     p.set_defaults(run=_preview)
+    p = sub.add_parser("train", help="train Gaussians with identities (Gaussian Grouping on gsplat)")
+    from engine.train_config import add_config_arguments
+
+    add_config_arguments(p)
+    p.add_argument("--resume", action="store_true", help="continue the run in --out from its newest checkpoint")
+    p.set_defaults(run=_train)
     p = sub.add_parser("version", help="engine, torch and CUDA versions (the add-on's health check)")
     p.set_defaults(run=_version)
     return parser
@@ -78,5 +94,8 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except KeyboardInterrupt:
         print("error: interrupted; nothing was written over existing files", file=sys.stderr)
+        return 130
+    except Cancelled as exc:
+        print(f"cancelled: {exc}", file=sys.stderr)
         return 130
     return 0

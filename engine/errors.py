@@ -7,3 +7,7 @@ class InputError(Exception):
     The message is one line, names the offending path or value, and says how to fix it.
     The CLI prints it without a traceback.
     """
+
+
+class Cancelled(Exception):
+    """Long work stopped on SIGINT/SIGTERM after saving what it needs to continue; the CLI exits with 130."""

@@ -45,6 +45,8 @@ class SceneConfig:
     seed: int = 0
     orbit: str = "360"
     gt: str = "all"
+    threads: int = 0
+    points: int = 30_000
 
 
 def parse_args(argv: list[str]) -> SceneConfig:
@@ -58,6 +60,8 @@ def parse_args(argv: list[str]) -> SceneConfig:
     parser.add_argument("--orbit", choices=["360", "hemisphere"], default=SceneConfig.orbit)
     parser.add_argument("--gt", choices=["all", "test"], default=SceneConfig.gt,
                         help="render gt/ for every view or only for test views")
+    parser.add_argument("--threads", type=int, default=SceneConfig.threads, help="render threads (0 = all cores)")
+    parser.add_argument("--points", type=int, default=SceneConfig.points, help="sparse points in the COLMAP model")
     args = parser.parse_args(argv)
     if args.views < 2 or args.res < 16 or args.samples < 1:
         parser.error("need --views >= 2, --res >= 16 and --samples >= 1")
@@ -83,7 +87,7 @@ def build_blender_scene(config: SceneConfig):
 
 def render_scene(config: SceneConfig, staging: Path) -> None:
     spec, rng = build_blender_scene(config)
-    width, height = render.configure_cycles(config.res, config.samples, config.seed)
+    width, height = render.configure_cycles(config.res, config.samples, config.seed, config.threads)
     camera = render.add_camera()
     poses = render.orbit_poses(spec.focus, spec.distance, spec.elevation, config.views, config.orbit, rng)
     names = [f"{i:04d}.png" for i in range(config.views)]
@@ -114,7 +118,7 @@ def main(argv: list[str]) -> int:
     start = time.monotonic()
     try:
         render_scene(config, staging)
-        run_engine(["build-scene", "--renders", str(staging), "--out", str(out)])
+        run_engine(["build-scene", "--renders", str(staging), "--out", str(out), "--max-points", str(config.points)])
     except EngineError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

@@ -15,7 +15,7 @@ REPO = Path(__file__).resolve().parent.parent
 # tests/blender runs in Blender's Python (.venv-blender); the rest in the engine's (.venv). bpy is only
 # looked for here, not imported: tests/blender/conftest.py must set up Blender's user folder first.
 collect_ignore = [] if importlib.util.find_spec("bpy") else ["blender"]
-TINY = ["--views", "8", "--res", "96", "--samples", "4", "--seed", "3"]
+TINY = ["--views", "8", "--res", "96", "--samples", "4", "--seed", "3", "--points", "3000"]
 
 
 def blender_command(script: str, args: list[str]) -> list[str]:

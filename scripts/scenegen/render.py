@@ -18,7 +18,7 @@ LENS_MM, SENSOR_MM = 35.0, 36.0
 BLENDER_TO_OPENCV = Matrix(((1, 0, 0), (0, -1, 0), (0, 0, -1)))
 
 
-def configure_cycles(width: int, samples: int, seed: int) -> tuple[int, int]:
+def configure_cycles(width: int, samples: int, seed: int, threads: int = 0) -> tuple[int, int]:
     """Cycles on the CPU, deterministic, with the passes we need; returns (width, height)."""
     scene = bpy.context.scene
     height = int(round(width * 3 / 4 / 2)) * 2
@@ -32,6 +32,8 @@ def configure_cycles(width: int, samples: int, seed: int) -> tuple[int, int]:
     scene.cycles.caustics_reflective = scene.cycles.caustics_refractive = False
     scene.render.resolution_x, scene.render.resolution_y = width, height
     scene.render.resolution_percentage = 100
+    scene.render.threads_mode = "FIXED" if threads > 0 else "AUTO"
+    scene.render.threads = max(threads, 1)
     scene.render.film_transparent = False
     scene.view_settings.view_transform = "Standard"  # the engine applies the sRGB curve itself
     scene.view_settings.look = "None"

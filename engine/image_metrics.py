@@ -1,0 +1,67 @@
+"""Image metrics shared by training and evaluation: PSNR, SSIM (also the training loss), identity mIoU.
+
+Images are float tensors in [0, 1], shape (H, W, C). SSIM uses the usual 11x11 Gaussian window
+(sigma 1.5) with constants (0.01, 0.03) and 'same' zero padding, as the 3DGS reference code does.
+"""
+
+from __future__ import annotations
+
+import math
+
+import torch
+import torch.nn.functional as F
+
+
+def psnr(a: torch.Tensor, b: torch.Tensor) -> float:
+    mse = torch.mean((a.float() - b.float()) ** 2).item()
+    return float("inf") if mse == 0 else 10 * math.log10(1.0 / mse)
+
+
+def _window(size: int, sigma: float, channels: int, device, dtype) -> torch.Tensor:
+    x = torch.arange(size, device=device, dtype=dtype) - size // 2
+    g = torch.exp(-(x**2) / (2 * sigma**2))
+    g = g / g.sum()
+    return (g[:, None] * g[None, :]).expand(channels, 1, size, size).contiguous()
+
+
+def ssim_map(a: torch.Tensor, b: torch.Tensor, size: int = 11, sigma: float = 1.5) -> torch.Tensor:
+    """Per-pixel SSIM (H, W), averaged over channels, for images (H, W, C)."""
+    x, y = a.permute(2, 0, 1)[None], b.permute(2, 0, 1)[None]
+    channels = x.shape[1]
+    w = _window(size, sigma, channels, x.device, x.dtype)
+
+    def blur(t: torch.Tensor) -> torch.Tensor:
+        return F.conv2d(t, w, padding=size // 2, groups=channels)
+
+    mu_x, mu_y = blur(x), blur(y)
+    sxx, syy, sxy = blur(x * x) - mu_x**2, blur(y * y) - mu_y**2, blur(x * y) - mu_x * mu_y
+    c1, c2 = 0.01**2, 0.03**2
+    value = ((2 * mu_x * mu_y + c1) * (2 * sxy + c2)) / ((mu_x**2 + mu_y**2 + c1) * (sxx + syy + c2))
+    return value[0].mean(dim=0)
+
+
+def ssim(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
+    """Mean SSIM of images (H, W, C); differentiable (the training loss uses it)."""
+    return ssim_map(a, b).mean()
+
+
+class IoUCounter:
+    """Accumulates per-class intersections and unions over views; mIoU over classes in the ground truth."""
+
+    def __init__(self, num_classes: int) -> None:
+        self.inter = torch.zeros(num_classes, dtype=torch.float64)
+        self.union = torch.zeros(num_classes, dtype=torch.float64)
+        self.present = torch.zeros(num_classes, dtype=torch.bool)
+
+    def add(self, pred: torch.Tensor, truth: torch.Tensor) -> None:
+        n = len(self.inter)
+        pred, truth = pred.flatten().long().cpu(), truth.flatten().long().cpu()
+        hist = torch.bincount(truth * n + pred, minlength=n * n).reshape(n, n).double()
+        inter = hist.diag()
+        self.inter += inter
+        self.union += hist.sum(0) + hist.sum(1) - inter
+        self.present |= hist.sum(1) > 0
+
+    def miou(self) -> float:
+        iou = self.inter[self.present] / self.union[self.present].clamp_min(1)
+        return float(iou.mean()) if len(iou) else float("nan")

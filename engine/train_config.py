@@ -1,0 +1,87 @@
+"""Training settings: one dataclass, defaults that work on the GPU (30k steps), and a small CPU preset.
+
+The CLI is generated from the fields (engine.cli), and the resolved config is saved as config.json in
+the run folder, so every number can be traced to its settings.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+from dataclasses import dataclass
+
+PRESETS: dict[str, dict] = {
+    # Gaussian Grouping's schedule on gsplat's DefaultStrategy (refine every 100 from 500 to 15k, reset
+    # opacity every 3k) and its losses.
+    "default": {},
+    # A few hundred steps at tiny sizes for CPU tests: densify early and often, no opacity reset.
+    "tiny": dict(steps=300, sh_degree=1, sh_degree_interval=100, refine_start=50, refine_stop=250,
+                 refine_every=25, reset_every=100_000, checkpoint_every=100, log_every=10, reg3d_pool=2048,
+                 reg3d_refresh=100),
+}
+
+
+@dataclass
+class TrainConfig:
+    scene: str = ""
+    out: str = ""
+    preset: str = "default"
+    steps: int = 30_000
+    seed: int = 0
+    device: str = "auto"  # auto | cuda | cpu
+    max_gaussians: int = 0  # 0 = no budget (gsplat DefaultStrategy); N = MCMCStrategy capped at N
+    sh_degree: int = 3
+    sh_degree_interval: int = 1000  # one more SH band every this many steps
+    init_opacity: float = 0.1
+    # learning rates (gsplat simple_trainer / Gaussian Grouping); means scaled by the scene extent
+    lr_means: float = 1.6e-4
+    lr_means_final_ratio: float = 0.01
+    lr_quats: float = 1e-3
+    lr_scales: float = 5e-3
+    lr_opacities: float = 5e-2
+    lr_sh0: float = 2.5e-3
+    lr_shN: float = 2.5e-3 / 20
+    lr_identity: float = 2.5e-3
+    lr_classifier: float = 5e-4
+    # losses (Gaussian Grouping): 0.8 L1 + 0.2 (1 - SSIM) + CE / log(C) + 3D regulariser
+    ssim_weight: float = 0.2
+    identity_weight: float = 1.0
+    reg3d_every: int = 5
+    reg3d_k: int = 5
+    reg3d_samples: int = 1000
+    reg3d_weight: float = 2.0
+    reg3d_pool: int = 8192
+    reg3d_refresh: int = 500
+    # densification
+    refine_start: int = 500
+    refine_stop: int = 15_000
+    refine_every: int = 100
+    reset_every: int = 3000
+    mcmc_opacity_reg: float = 0.01
+    mcmc_scale_reg: float = 0.01
+    # bookkeeping
+    checkpoint_every: int = 5000
+    keep_checkpoints: int = 2
+    log_every: int = 100
+
+    def resolved(self) -> TrainConfig:
+        """Apply the preset's values to fields the user left at their defaults."""
+        if self.preset not in PRESETS:
+            raise ValueError(f"unknown preset {self.preset!r}; choose from {sorted(PRESETS)}")
+        defaults = TrainConfig()
+        changes = {k: v for k, v in PRESETS[self.preset].items() if getattr(self, k) == getattr(defaults, k)}
+        return dataclasses.replace(self, **changes)
+
+
+def add_config_arguments(parser: argparse.ArgumentParser, cls=TrainConfig, skip: tuple[str, ...] = ()) -> None:
+    """One --option per dataclass field, typed from its default."""
+    for f in dataclasses.fields(cls):
+        if f.name in skip:
+            continue
+        default = f.default
+        parser.add_argument(f"--{f.name.replace('_', '-')}", type=type(default), default=default,
+                            required=f.name in ("scene", "out"), help=f"(default: {default})")
+
+
+def config_from_args(args: argparse.Namespace, cls=TrainConfig):
+    return cls(**{f.name: getattr(args, f.name) for f in dataclasses.fields(cls) if hasattr(args, f.name)})

@@ -1,0 +1,200 @@
+"""Gaussian Grouping training on gsplat: one loop; densification is a gsplat strategy plugged into it.
+
+Losses (Gaussian Grouping): 0.8 L1 + 0.2 (1 - SSIM) + CE(classifier(identity map), mask) / log(C)
++ every 5 steps the 3D identity regulariser. No budget: gsplat's DefaultStrategy; a budget
+(--max-gaussians N): gsplat's MCMCStrategy capped at N, with its opacity and scale regularisers.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+from gsplat.strategy import DefaultStrategy, MCMCStrategy
+
+from engine.gaussians import PARAM_NAMES, Gaussians, init_from_points, new_classifier
+from engine.identity_regularizer import IdentityRegularizer
+from engine.image_metrics import psnr, ssim
+from engine.rasterize import CameraTensors, render
+from engine.scene import Scene
+from engine.train_config import TrainConfig
+
+
+def pick_device(name: str) -> torch.device:
+    if name == "auto":
+        return torch.device("cuda" if torch.cuda.is_available() else "cpu")
+    if name == "cuda" and not torch.cuda.is_available():
+        from engine.errors import InputError
+
+        raise InputError("--device cuda but torch sees no GPU: install a CUDA build of torch or use --device cpu")
+    return torch.device(name)
+
+
+def scene_extent(scene: Scene) -> float:
+    """gsplat's scene scale: 1.1 x the largest camera distance from the cameras' mean centre."""
+    centers = np.stack([c.center for c in scene.cameras])
+    return float(np.linalg.norm(centers - centers.mean(0), axis=1).max() * 1.1)
+
+
+def num_classes_of(scene: Scene) -> int:
+    if scene.masks is None:
+        return 1
+    ids = [int(m.max()) for m in scene.masks] + [o.id for o in scene.objects]
+    return max(ids) + 1
+
+
+@dataclass
+class StepResult:
+    loss: float
+    psnr: float
+
+
+class Trainer:
+    """Holds the parameters, optimizers and strategy state of one run; `step()` advances it by one view."""
+
+    def __init__(self, config: TrainConfig, scene: Scene, device: torch.device) -> None:
+        self.config, self.scene, self.device = config, scene, device
+        self.budget = config.max_gaussians > 0
+        if self.budget and device.type != "cuda":
+            from engine.gsplat_cpu import enable_cpu_mcmc
+
+            enable_cpu_mcmc()
+        torch.manual_seed(config.seed)
+        self.views = np.random.default_rng(config.seed)
+        self.generator = torch.Generator().manual_seed(config.seed)
+        self.order: list[int] = []
+        self.extent = scene_extent(scene)
+        self.params = self._init_params()
+        self.optimizers = {name: self._adam(name, p) for name, p in self.params.items()}
+        self.classifier = new_classifier(num_classes_of(scene)).to(device)
+        self.classifier_opt = torch.optim.Adam(self.classifier.parameters(), lr=config.lr_classifier)
+        self.strategy = self._strategy()
+        self.strategy.check_sanity(self.params, self.optimizers)
+        self.strategy_state = (self.strategy.initialize_state() if self.budget
+                               else self.strategy.initialize_state(scene_scale=self.extent))
+        self.regularizer = IdentityRegularizer(k=config.reg3d_k, samples=config.reg3d_samples,
+                                               weight=config.reg3d_weight, pool_size=config.reg3d_pool,
+                                               refresh_every=config.reg3d_refresh)
+        self.cameras = [CameraTensors.from_camera(c, device) for c in scene.cameras]
+        self.images = {i: torch.as_tensor(scene.images[i], device=device) for i in scene.train}
+        self.masks = ({i: torch.as_tensor(scene.masks[i], device=device).long() for i in scene.train}
+                      if scene.masks is not None else None)
+        self.step_index = 0
+        self.seconds = 0.0
+
+    def _init_params(self) -> torch.nn.ParameterDict:
+        cfg = self.config
+        points, colors = self.scene.points, self.scene.colors
+        if self.budget and len(points) > cfg.max_gaussians:  # MCMC never removes: start within the cap
+            keep = np.random.default_rng(cfg.seed).choice(len(points), cfg.max_gaussians, replace=False)
+            points, colors = points[keep], colors[keep]
+        init_opacity = 0.5 if self.budget else cfg.init_opacity  # gsplat's MCMC trainer settings
+        gaussians = init_from_points(points, colors, cfg.sh_degree, init_opacity, cfg.seed)
+        if self.budget:
+            gaussians["scales"] = gaussians["scales"] + math.log(0.1)
+        return torch.nn.ParameterDict({k: torch.nn.Parameter(v.to(self.device)) for k, v in gaussians.items()})
+
+    def _adam(self, name: str, param: torch.nn.Parameter) -> torch.optim.Adam:
+        lr = getattr(self.config, f"lr_{name}") * (self.extent if name == "means" else 1.0)
+        return torch.optim.Adam([{"params": [param], "lr": lr, "name": name}], eps=1e-15,
+                                fused=self.device.type == "cuda")
+
+    def _strategy(self) -> DefaultStrategy | MCMCStrategy:
+        cfg = self.config
+        if self.budget:
+            return MCMCStrategy(cap_max=cfg.max_gaussians, refine_start_iter=cfg.refine_start,
+                                refine_stop_iter=cfg.refine_stop, refine_every=cfg.refine_every)
+        return DefaultStrategy(refine_start_iter=cfg.refine_start, refine_stop_iter=cfg.refine_stop,
+                               refine_every=cfg.refine_every, reset_every=cfg.reset_every, verbose=False)
+
+    def _next_view(self) -> int:
+        if not self.order:
+            self.order = [int(i) for i in self.views.permutation(self.scene.train)]
+        return self.order.pop()
+
+    def _means_lr(self, step: int) -> float:
+        cfg = self.config
+        return cfg.lr_means * self.extent * cfg.lr_means_final_ratio ** (step / max(cfg.steps, 1))
+
+    def step(self) -> StepResult:
+        """One training step on one training view."""
+        cfg, step = self.config, self.step_index
+        start = time.perf_counter()
+        lr = self._means_lr(step)
+        self.optimizers["means"].param_groups[0]["lr"] = lr
+        view = self._next_view()
+        sh_degree = min(step // cfg.sh_degree_interval, cfg.sh_degree)
+        out = render(self.params, self.cameras[view], sh_degree)
+        target = self.images[view].float() / 255.0
+        loss = (1 - cfg.ssim_weight) * (out.rgb - target).abs().mean() + cfg.ssim_weight * (1 - ssim(out.rgb, target))
+        if self.masks is not None:
+            logits = self.classifier(out.identity)
+            classes = logits.shape[-1]
+            loss = loss + cfg.identity_weight * F.cross_entropy(logits.reshape(-1, classes),
+                                                                self.masks[view].reshape(-1)) / math.log(classes)
+            if cfg.reg3d_every > 0 and step % cfg.reg3d_every == 0:
+                loss = loss + self.regularizer.loss(self.params["identity"], self.classifier, self.params["means"],
+                                                    step, self.generator)
+        if self.budget:
+            loss = (loss + cfg.mcmc_opacity_reg * torch.sigmoid(self.params["opacities"]).mean()
+                    + cfg.mcmc_scale_reg * torch.exp(self.params["scales"]).mean())
+        self.strategy.step_pre_backward(self.params, self.optimizers, self.strategy_state, step, out.info)
+        loss.backward()
+        for optimizer in (*self.optimizers.values(), self.classifier_opt):
+            optimizer.step()
+            optimizer.zero_grad(set_to_none=True)
+        if self.budget:
+            self.strategy.step_post_backward(self.params, self.optimizers, self.strategy_state, step, out.info, lr=lr)
+        else:
+            self.strategy.step_post_backward(self.params, self.optimizers, self.strategy_state, step, out.info,
+                                             packed=False)
+        self.step_index += 1
+        self.seconds += time.perf_counter() - start
+        return StepResult(loss=float(loss.detach()), psnr=psnr(out.rgb.detach().clamp(0, 1), target))
+
+    @property
+    def gaussians(self) -> Gaussians:
+        return {k: v.detach() for k, v in self.params.items()}
+
+    @property
+    def sh_degree(self) -> int:
+        return min(self.step_index // self.config.sh_degree_interval, self.config.sh_degree)
+
+    # --- checkpoints -------------------------------------------------------------------------------------
+    def state_dict(self) -> dict:
+        return {
+            "step": self.step_index, "seconds": self.seconds,
+            "params": {k: v.detach().cpu() for k, v in self.params.items()},
+            "optimizers": {k: o.state_dict() for k, o in self.optimizers.items()},
+            "classifier": self.classifier.state_dict(), "classifier_opt": self.classifier_opt.state_dict(),
+            "strategy_state": {k: (v.cpu() if torch.is_tensor(v) else v) for k, v in self.strategy_state.items()},
+            "order": list(self.order), "views_rng": self.views.bit_generator.state,
+            "generator": self.generator.get_state(), "torch_rng": torch.get_rng_state(),
+            "cuda_rng": torch.cuda.get_rng_state() if self.device.type == "cuda" else None,
+            "python_rng": random.getstate(), "regularizer": self.regularizer.state_dict(),
+        }
+
+    def load_state_dict(self, state: dict) -> None:
+        self.step_index, self.seconds = state["step"], state["seconds"]
+        self.params = torch.nn.ParameterDict({k: torch.nn.Parameter(state["params"][k].to(self.device))
+                                              for k in PARAM_NAMES})
+        self.optimizers = {name: self._adam(name, p) for name, p in self.params.items()}
+        for name, optimizer in self.optimizers.items():
+            optimizer.load_state_dict(state["optimizers"][name])
+        self.classifier.load_state_dict(state["classifier"])
+        self.classifier_opt.load_state_dict(state["classifier_opt"])
+        self.strategy_state = {k: (v.to(self.device) if torch.is_tensor(v) else v)
+                               for k, v in state["strategy_state"].items()}
+        self.order = list(state["order"])
+        self.views.bit_generator.state = state["views_rng"]
+        self.generator.set_state(state["generator"])
+        torch.set_rng_state(state["torch_rng"])
+        if state["cuda_rng"] is not None and self.device.type == "cuda":
+            torch.cuda.set_rng_state(state["cuda_rng"])
+        random.setstate(state["python_rng"])
+        self.regularizer.load_state_dict(state["regularizer"], self.params["means"])
