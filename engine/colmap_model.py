@@ -1,7 +1,7 @@
-"""COLMAP models through pycolmap: the one module that imports pycolmap.
+"""COLMAP models: read with numpy (engine.colmap_files), written through pycolmap.
 
-pycolmap 4.2.1 breaks zlib when it is imported first (the next PNG write aborts the process), so
-zlib and cv2 are imported before it here, and nothing else in the engine imports pycolmap.
+This is the one module that imports pycolmap, and only inside write_model: pycolmap 4.2.1 breaks zlib
+when it is imported first (the next PNG write aborts the process), so zlib and cv2 are loaded before it.
 """
 
 from __future__ import annotations
@@ -12,8 +12,8 @@ from pathlib import Path
 
 import cv2  # noqa: F401
 import numpy as np
-import pycolmap
 
+from engine import colmap_files
 from engine.camera import Camera
 from engine.errors import InputError
 
@@ -44,59 +44,44 @@ def find_model_dir(scene_root: Path) -> Path:
 
 
 def read_model(model_dir: Path) -> ColmapModel:
-    """Read a COLMAP model; one line names the missing or broken file."""
+    """Read a COLMAP model (binary or text) with numpy; one line names the missing or broken file."""
     ext = ".bin" if (model_dir / "cameras.bin").is_file() else ".txt"
-    for stem in MODEL_FILES:
-        if not (model_dir / f"{stem}{ext}").is_file():
-            raise InputError(f"missing {model_dir / (stem + ext)}: the COLMAP model is incomplete; re-export it")
-    if ext == ".bin":
-        _check_binary_sizes(model_dir)
+    paths = {stem: model_dir / f"{stem}{ext}" for stem in MODEL_FILES}
+    for path in paths.values():
+        if not path.is_file():
+            raise InputError(f"missing {path}: the COLMAP model is incomplete; re-export it")
     try:
-        rec = pycolmap.Reconstruction(str(model_dir))
-    except Exception as exc:  # pycolmap raises plain RuntimeError/ValueError with C++ text
-        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise InputError(f"cannot read the COLMAP model in {model_dir}: {first}; re-export it") from exc
-    cameras = [_camera_from_image(rec, image) for image in rec.images.values()]
-    if not cameras:
+        raw_cameras = colmap_files.read_cameras(paths["cameras"])
+        raw_images = colmap_files.read_images(paths["images"])
+        points, colors = colmap_files.read_points(paths["points3D"])
+    except (ValueError, IndexError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot parse the COLMAP model in {model_dir} ({exc}); re-export it") from exc
+    if not raw_images:
         raise InputError(f"the COLMAP model in {model_dir} has no images; re-run the reconstruction")
+    cameras = [_camera(model_dir, image, raw_cameras) for image in raw_images.values()]
     cameras.sort(key=lambda c: c.name)
-    ids = sorted(rec.points3D.keys())
-    points = np.array([rec.points3D[i].xyz for i in ids], dtype=np.float64).reshape(-1, 3)
-    colors = np.array([rec.points3D[i].color for i in ids], dtype=np.uint8).reshape(-1, 3)
     return ColmapModel(cameras=cameras, points=points, colors=colors)
 
 
-def _camera_from_image(rec: pycolmap.Reconstruction, image: pycolmap.Image) -> Camera:
-    cam = rec.cameras[image.camera_id]
-    model = cam.model.name
-    if model not in SUPPORTED_MODELS:
-        raise InputError(
-            f"camera {image.camera_id} of {image.name} is {model}; splatfill needs PINHOLE cameras: "
-            "run `colmap image_undistorter` first"
-        )
-    if model == "SIMPLE_PINHOLE":
-        f, cx, cy = cam.params
-        fx = fy = f
-    else:
-        fx, fy, cx, cy = cam.params
-    pose = image.cam_from_world()
-    return Camera(
-        name=image.name, width=int(cam.width), height=int(cam.height),
-        fx=float(fx), fy=float(fy), cx=float(cx), cy=float(cy),
-        R=np.asarray(pose.rotation.matrix(), dtype=np.float64), t=np.asarray(pose.translation, dtype=np.float64),
-    )
-
-
-def _check_binary_sizes(model_dir: Path) -> None:
-    """Catch truncated or empty .bin files before pycolmap reads past their end."""
-    for stem in MODEL_FILES:
-        path = model_dir / f"{stem}.bin"
-        if path.stat().st_size < 8:
-            raise InputError(f"{path} is truncated ({path.stat().st_size} bytes); re-export the COLMAP model")
+def _camera(model_dir: Path, image: colmap_files.RawImage, cameras: dict[int, colmap_files.RawCamera]) -> Camera:
+    cam = cameras.get(image.camera_id)
+    if cam is None:
+        raise InputError(f"image {image.name} in {model_dir} uses camera {image.camera_id}, which is missing")
+    if cam.model not in SUPPORTED_MODELS:
+        raise InputError(f"camera {image.camera_id} of {image.name} is {cam.model}; splatfill needs PINHOLE "
+                         "cameras: run `colmap image_undistorter` first")
+    if len(cam.params) != colmap_files.PARAM_COUNTS[cam.model]:
+        raise InputError(f"camera {image.camera_id} in {model_dir} has {len(cam.params)} parameters for "
+                         f"{cam.model}; the model is corrupt")
+    fx, fy, cx, cy = (cam.params[0], *cam.params) if cam.model == "SIMPLE_PINHOLE" else cam.params
+    return Camera(name=image.name, width=cam.width, height=cam.height, fx=float(fx), fy=float(fy),
+                  cx=float(cx), cy=float(cy), R=colmap_files.quat_to_rotation(image.qvec), t=image.tvec.copy())
 
 
 def write_model(model_dir: Path, model: ColmapModel) -> None:
     """Write cameras.bin, images.bin and points3D.bin: one PINHOLE camera per image, with tracks."""
+    import pycolmap  # after zlib and cv2, see the module docstring
+
     model_dir.mkdir(parents=True, exist_ok=True)
     rec = pycolmap.Reconstruction()
     per_image: list[list[tuple[int, float, float]]] = [[] for _ in model.cameras]

@@ -11,7 +11,6 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-import OpenImageIO as oiio
 
 from engine.errors import InputError
 
@@ -45,6 +44,8 @@ def write_png(path: Path, array: np.ndarray) -> None:
 
 def read_exr_channels(path: Path) -> dict[str, np.ndarray]:
     """All channels of an EXR, single- or multi-part, as {channel name: (H, W) float32}."""
+    import OpenImageIO as oiio  # only EXR needs it; training-only machines can do without
+
     path = Path(path)
     if not path.is_file():
         raise InputError(f"missing EXR file {path}: restore it or regenerate the scene")
@@ -76,6 +77,8 @@ def write_depth(path: Path, depth: np.ndarray) -> None:
 
     OpenImageIO scrambles a 2-D array silently, so it is given (H, W, 1).
     """
+    import OpenImageIO as oiio
+
     depth = np.ascontiguousarray(depth, dtype=np.float32)[..., None]
     spec = oiio.ImageSpec(depth.shape[1], depth.shape[0], 1, oiio.FLOAT)
     spec.channelnames = ("Y",)

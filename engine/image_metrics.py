@@ -62,6 +62,11 @@ class IoUCounter:
         self.union += hist.sum(0) + hist.sum(1) - inter
         self.present |= hist.sum(1) > 0
 
+    def iou(self) -> dict[int, float]:
+        """IoU of each class present in the ground truth."""
+        present = torch.nonzero(self.present).flatten()
+        return {int(c): float(self.inter[c] / self.union[c].clamp_min(1)) for c in present}
+
     def miou(self) -> float:
         iou = self.inter[self.present] / self.union[self.present].clamp_min(1)
         return float(iou.mean()) if len(iou) else float("nan")

@@ -15,8 +15,8 @@ PRESETS: dict[str, dict] = {
     # opacity every 3k) and its losses.
     "default": {},
     # A few hundred steps at tiny sizes for CPU tests: densify early and often, no opacity reset.
-    "tiny": dict(steps=300, sh_degree=1, sh_degree_interval=100, refine_start=50, refine_stop=250,
-                 refine_every=25, reset_every=100_000, checkpoint_every=100, log_every=10, reg3d_pool=2048,
+    "tiny": dict(steps=200, sh_degree=1, sh_degree_interval=100, refine_start=50, refine_stop=150,
+                 refine_every=50, reset_every=100_000, checkpoint_every=100, log_every=10, reg3d_pool=2048,
                  reg3d_refresh=100),
 }
 

@@ -93,10 +93,10 @@ class Trainer:
         if self.budget and len(points) > cfg.max_gaussians:  # MCMC never removes: start within the cap
             keep = np.random.default_rng(cfg.seed).choice(len(points), cfg.max_gaussians, replace=False)
             points, colors = points[keep], colors[keep]
-        init_opacity = 0.5 if self.budget else cfg.init_opacity  # gsplat's MCMC trainer settings
+        # gsplat's MCMC trainer starts at opacity 0.5; its 0.1x initial scale is meant for random
+        # initialisation and starves a model started from sparse points (measured: 10.5 vs 24.5 dB).
+        init_opacity = 0.5 if self.budget else cfg.init_opacity
         gaussians = init_from_points(points, colors, cfg.sh_degree, init_opacity, cfg.seed)
-        if self.budget:
-            gaussians["scales"] = gaussians["scales"] + math.log(0.1)
         return torch.nn.ParameterDict({k: torch.nn.Parameter(v.to(self.device)) for k, v in gaussians.items()})
 
     def _adam(self, name: str, param: torch.nn.Parameter) -> torch.optim.Adam:

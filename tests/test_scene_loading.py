@@ -26,7 +26,8 @@ BREAKAGES = {
     "no_model": (lambda s: shutil.rmtree(s / "sparse"), "sparse"),
     "no_images_bin": (lambda s: (s / "sparse/0/images.bin").unlink(), "images.bin"),
     "truncated_cameras_bin": (lambda s: _truncate(s / "sparse/0/cameras.bin", 4), "cameras.bin"),
-    "corrupt_images_bin": (lambda s: _truncate(s / "sparse/0/images.bin", 40), "sparse/0"),
+    "corrupt_images_bin": (lambda s: _truncate(s / "sparse/0/images.bin", 40), "images.bin"),
+    "truncated_points_bin": (lambda s: _truncate(s / "sparse/0/points3D.bin", 5000), "points3D.bin"),
     "missing_image": (lambda s: (s / "images/0003.png").unlink(), "images/0003.png"),
     "corrupt_image": (lambda s: (s / "images/0002.png").write_bytes(b"not a png"), "images/0002.png"),
     "truncated_image": (lambda s: _truncate(s / "images/0001.png", 60), "images/0001.png"),
@@ -80,6 +81,25 @@ def test_a_plain_colmap_folder_loads_with_a_default_split(scene_copy: Path):
     scene = load_scene(scene_copy)
     assert scene.masks is None and scene.depths is None and not scene.gt_images
     assert scene.test == [0] and scene.train == list(range(1, 8))  # every 8th view, as 3DGS does
+
+
+def test_the_numpy_reader_agrees_with_pycolmap_on_binary_and_text_models(living_scene: Path, tmp_path: Path):
+    import zlib  # noqa: F401,I001  -- before pycolmap
+    import pycolmap
+
+    from engine.colmap_model import read_model
+
+    rec = pycolmap.Reconstruction(str(living_scene / "sparse" / "0"))
+    rec.write_text(str(tmp_path))
+    for model in (read_model(living_scene / "sparse" / "0"), read_model(tmp_path)):
+        for cam in model.cameras:
+            image = rec.find_image_with_name(cam.name)
+            pose = image.cam_from_world()
+            assert np.allclose(cam.R, pose.rotation.matrix(), atol=1e-6) and np.allclose(cam.t, pose.translation)
+            assert [cam.fx, cam.fy, cam.cx, cam.cy] == pytest.approx(list(rec.cameras[image.camera_id].params))
+        ids = sorted(rec.points3D)
+        assert np.allclose(model.points, [rec.points3D[i].xyz for i in ids], atol=1e-6)
+        assert np.array_equal(model.colors, [rec.points3D[i].color for i in ids])
 
 
 def test_cli_reports_one_line_and_status_2(scene_copy: Path):
