@@ -1,0 +1,92 @@
+"""Benchmark Gaussian Grouping training: wall time, steps/s, peak GPU memory, Gaussians, PSNR/SSIM, mIoU.
+
+    python scripts/bench_train.py --scenes DIR... --budgets 0 300000 [--steps 30000] --results DIR
+    python scripts/bench_train.py --report                      # docs/benchmarks/train/*.json -> BENCHMARKS.md
+
+Each run writes one JSON (machine, command, settings, numbers) into --results; commit them under
+docs/benchmarks/train/ and regenerate the table with --report. Engine Python; absolute times only count
+when measured on the GPU machine. Budget 0 means none (gsplat DefaultStrategy).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shlex
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))
+RESULTS = REPO / "docs" / "benchmarks" / "train"
+BENCHMARKS = REPO / "docs" / "BENCHMARKS.md"
+BEGIN, END = "<!-- bench_train:begin -->", "<!-- bench_train:end -->"
+
+
+def run_one(scene: Path, budget: int, steps: int, results: Path) -> dict:
+    import torch
+
+    from engine.train_config import TrainConfig
+    from engine.train_run import train
+
+    with tempfile.TemporaryDirectory() as tmp:
+        torch.cuda.reset_peak_memory_stats() if torch.cuda.is_available() else None
+        start = time.perf_counter()
+        config = TrainConfig(scene=str(scene), out=str(Path(tmp) / "run"), steps=steps, max_gaussians=budget)
+        metrics = train(config)
+        wall = time.perf_counter() - start
+    record = {
+        "scene": scene.name, "budget": budget or None, "steps": steps, "wall_s": round(wall, 1),
+        "train_s": metrics["train_seconds"], "steps_per_s": round(steps / metrics["train_seconds"], 1),
+        "peak_gpu_mb": metrics["peak_gpu_mb"], "gaussians": metrics["gaussians"], "psnr": round(metrics["psnr"], 2),
+        "ssim": round(metrics["ssim"], 4), "identity_miou": round(metrics["identity_miou"], 3),
+        "device": torch.cuda.get_device_name() if torch.cuda.is_available() else "cpu",
+        "torch": torch.__version__, "command": "python " + shlex.join(sys.argv),
+    }
+    results.mkdir(parents=True, exist_ok=True)
+    (results / f"{scene.name}_{budget or 'none'}.json").write_text(json.dumps(record, indent=1))
+    print(json.dumps(record), flush=True)
+    return record
+
+
+def report() -> None:
+    records = [json.loads(p.read_text()) for p in sorted(RESULTS.glob("*.json"))]
+    lines = ["| scene | budget | steps | wall | steps/s | peak GPU MB | Gaussians | test PSNR | SSIM | id mIoU "
+             "| device |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in sorted(records, key=lambda r: (r["scene"], r["budget"] or 10**12)):
+        lines.append(f"| {r['scene']} | {r['budget'] or 'none'} | {r['steps']} | {r['wall_s'] / 60:.1f} min | "
+                     f"{r['steps_per_s']} | {r['peak_gpu_mb']} | {r['gaussians']:,} | {r['psnr']} | {r['ssim']} | "
+                     f"{r['identity_miou']} | {r['device']} |")
+    commands = sorted({r["command"] for r in records})
+    section = "\n".join([BEGIN, *lines, "", "Commands:", *[f"- `{c}`" for c in commands], END])
+    text = BENCHMARKS.read_text() if BENCHMARKS.exists() else "# Benchmarks\n"
+    if BEGIN in text:
+        text = text[: text.index(BEGIN)] + section + text[text.index(END) + len(END):]
+    else:
+        text += "\n## Training (Gaussian Grouping on gsplat)\n\n" + section + "\n"
+    BENCHMARKS.write_text(text)
+    print(f"wrote {BENCHMARKS} ({len(records)} runs)")
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--scenes", nargs="*", default=[])
+    parser.add_argument("--budgets", type=int, nargs="*", default=[0, 300_000])
+    parser.add_argument("--steps", type=int, default=30_000)
+    parser.add_argument("--results", default=str(RESULTS))
+    parser.add_argument("--report", action="store_true")
+    args = parser.parse_args()
+    if args.report:
+        report()
+        return 0
+    for scene in args.scenes:
+        for budget in args.budgets:
+            run_one(Path(scene), budget, args.steps, Path(args.results))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
