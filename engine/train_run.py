@@ -94,11 +94,13 @@ def train(config: TrainConfig, resume: bool = False, checkpoint: Path | None = N
 def _loop(trainer: Trainer, run: Path, stop: dict) -> None:
     config = trainer.config
     progress = Progress("train", config.steps)
+    start = time.perf_counter() - trainer.seconds
     while trainer.step_index < config.steps:
         result = trainer.step()
         step = trainer.step_index
+        trainer.seconds = time.perf_counter() - start  # wall clock of the loop, checkpoints included
         if step % config.log_every == 0 or step == config.steps:
-            progress.update(step, loss=round(result.loss, 5), psnr=round(result.psnr, 2),
+            progress.update(step, loss=round(float(result.loss), 5), psnr=round(result.psnr, 2),
                             gaussians=len(trainer.params["means"]))
         if step % config.checkpoint_every == 0 and step < config.steps:
             save_checkpoint(run, trainer, config.keep_checkpoints)
@@ -107,7 +109,14 @@ def _loop(trainer: Trainer, run: Path, stop: dict) -> None:
             progress.close()
             emit("cancelled", step=step, checkpoint=str(path))
             raise Cancelled(f"stopped at step {step}; checkpoint {path}; continue with --resume")
+    _synchronize(trainer.device)
+    trainer.seconds = time.perf_counter() - start
     progress.close()
+
+
+def _synchronize(device: torch.device) -> None:
+    if device.type == "cuda":
+        torch.cuda.synchronize(device)
 
 
 def _finish(trainer: Trainer, scene, run: Path) -> dict:

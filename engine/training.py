@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 import random
-import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,7 +18,7 @@ from gsplat.strategy import DefaultStrategy, MCMCStrategy
 
 from engine.gaussians import PARAM_NAMES, Gaussians, init_from_points, new_classifier
 from engine.identity_regularizer import IdentityRegularizer
-from engine.image_metrics import psnr, ssim
+from engine.image_metrics import ssim
 from engine.rasterize import CameraTensors, render
 from engine.scene import Scene
 from engine.train_config import TrainConfig
@@ -50,8 +49,14 @@ def num_classes_of(scene: Scene) -> int:
 
 @dataclass
 class StepResult:
-    loss: float
-    psnr: float
+    """Tensors on the device: reading them waits for the GPU, so the loop reads them only when logging."""
+
+    loss: torch.Tensor
+    mse: torch.Tensor
+
+    @property
+    def psnr(self) -> float:
+        return -10.0 * math.log10(max(float(self.mse), 1e-12))
 
 
 class Trainer:
@@ -124,7 +129,6 @@ class Trainer:
     def step(self) -> StepResult:
         """One training step on one training view."""
         cfg, step = self.config, self.step_index
-        start = time.perf_counter()
         lr = self._means_lr(step)
         self.optimizers["means"].param_groups[0]["lr"] = lr
         view = self._next_view()
@@ -154,8 +158,7 @@ class Trainer:
             self.strategy.step_post_backward(self.params, self.optimizers, self.strategy_state, step, out.info,
                                              packed=False)
         self.step_index += 1
-        self.seconds += time.perf_counter() - start
-        return StepResult(loss=float(loss.detach()), psnr=psnr(out.rgb.detach().clamp(0, 1), target))
+        return StepResult(loss=loss.detach(), mse=((out.rgb.detach().clamp(0, 1) - target) ** 2).mean())
 
     @property
     def gaussians(self) -> Gaussians:

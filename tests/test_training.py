@@ -45,7 +45,7 @@ def test_training_lowers_the_loss_fits_the_views_and_separates_objects(living_sc
     """Measured on the tiny livingroom scene (200 steps): loss 1.19 -> 0.20, 25.8 dB on the training views."""
     scene = load_scene(living_scene)
     trainer = Trainer(tiny_config(living_scene, tmp_path), scene, CPU)
-    losses = [trainer.step().loss for _ in range(trainer.config.steps)]
+    losses = [float(trainer.step().loss) for _ in range(trainer.config.steps)]
     assert sum(losses[-10:]) < 0.35 * sum(losses[:10])
     fit, iou = fit_on_train_views(trainer, scene)
     assert fit > 22.0
