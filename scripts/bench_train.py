@@ -53,11 +53,12 @@ def run_one(scene: Path, budget: int, steps: int, results: Path) -> dict:
 
 def report() -> None:
     records = [json.loads(p.read_text()) for p in sorted(RESULTS.glob("*.json"))]
-    lines = ["| scene | budget | steps | wall | steps/s | peak GPU MB | Gaussians | test PSNR | SSIM | id mIoU "
+    lines = ["| scene | budget | steps | training loop | steps/s | peak GPU MB | Gaussians | test PSNR | SSIM "
+             "| id mIoU "
              "| device |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in sorted(records, key=lambda r: (r["scene"], r["budget"] or 10**12)):
-        lines.append(f"| {r['scene']} | {r['budget'] or 'none'} | {r['steps']} | {r['wall_s'] / 60:.1f} min | "
+        lines.append(f"| {r['scene']} | {r['budget'] or 'none'} | {r['steps']} | {r['train_s'] / 60:.1f} min | "
                      f"{r['steps_per_s']} | {r['peak_gpu_mb']} | {r['gaussians']:,} | {r['psnr']} | {r['ssim']} | "
                      f"{r['identity_miou']} | {r['device']} |")
     commands = sorted({r["command"] for r in records})
