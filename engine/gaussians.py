@@ -51,14 +51,6 @@ def init_from_points(points: np.ndarray, colors: np.ndarray, sh_degree: int = 3,
     }
 
 
-def sh_degree_of(gaussians: Gaussians) -> int:
-    return int(round(math.sqrt(gaussians["shN"].shape[1] + 1))) - 1
-
-
 def new_classifier(num_classes: int) -> torch.nn.Linear:
     return torch.nn.Linear(IDENTITY_DIM, num_classes)
 
-
-def classify(classifier: torch.nn.Linear, identity: torch.Tensor) -> torch.Tensor:
-    """Class logits (..., C) for identity encodings or maps (..., 16)."""
-    return classifier(identity)

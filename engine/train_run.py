@@ -68,16 +68,16 @@ def prepare_run(config: TrainConfig, resume: bool) -> TrainConfig:
     return config
 
 
-def train(config: TrainConfig, resume: bool = False, checkpoint: Path | None = None) -> dict:
-    """Train (or continue) a run; returns its metrics. `checkpoint` resumes from that file instead."""
-    config = prepare_run(config, resume or checkpoint is not None)
+def train(config: TrainConfig, resume: bool = False) -> dict:
+    """Train a new run, or continue one from its newest checkpoint; returns its metrics."""
+    config = prepare_run(config, resume)
     run = Path(config.out)
     scene = load_scene(config.scene)
     if not scene.train:
         raise InputError(f"{config.scene} has no training views: check split.json")
     device = pick_device(config.device)
     trainer = Trainer(config, scene, device)
-    source = checkpoint or (latest_checkpoint(run) if resume else None)
+    source = latest_checkpoint(run) if resume else None
     if source is not None:
         trainer.load_state_dict(torch.load(source, map_location="cpu", weights_only=False))
         emit("resumed", step=trainer.step_index, checkpoint=str(source))
