@@ -14,12 +14,17 @@ import time
 from tqdm import tqdm
 
 
+def json_mode() -> bool:
+    """JSON lines when asked (the add-on sets SPLATFILL_PROGRESS=json) or when nobody watches a terminal."""
+    return os.environ.get("SPLATFILL_PROGRESS") == "json" or not sys.stdout.isatty()
+
+
 class Progress:
     """Reports `step` of `total` for one named stage."""
 
     def __init__(self, stage: str, total: int) -> None:
         self.stage, self.total, self.start = stage, total, time.monotonic()
-        self.json = os.environ.get("SPLATFILL_PROGRESS") == "json" or not sys.stdout.isatty()
+        self.json = json_mode()
         self.bar = None if self.json else tqdm(total=total, desc=stage, file=sys.stderr, leave=False)
 
     def update(self, step: int, **extra: float | int | str) -> None:
@@ -38,5 +43,5 @@ class Progress:
 
 def emit(event: str, **fields: object) -> None:
     """One non-progress JSON line (e.g. {"event": "done", "out": ...}) for the add-on; silent on a TTY."""
-    if os.environ.get("SPLATFILL_PROGRESS") == "json" or not sys.stdout.isatty():
+    if json_mode():
         print(json.dumps({"event": event, **fields}), flush=True)
