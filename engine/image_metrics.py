@@ -12,9 +12,13 @@ import torch
 import torch.nn.functional as F
 
 
-def psnr(a: torch.Tensor, b: torch.Tensor) -> float:
-    mse = torch.mean((a.float() - b.float()) ** 2).item()
+def psnr_from_mse(mse: float) -> float:
+    """PSNR in dB of images in [0, 1] with mean squared error `mse`."""
     return float("inf") if mse == 0 else 10 * math.log10(1.0 / mse)
+
+
+def psnr(a: torch.Tensor, b: torch.Tensor) -> float:
+    return psnr_from_mse(torch.mean((a.float() - b.float()) ** 2).item())
 
 
 def _gaussian_1d(size: int, sigma: float, device, dtype) -> torch.Tensor:

@@ -56,8 +56,7 @@ def render(gaussians: Gaussians, camera: CameraTensors, sh_degree: int, backend:
     means = gaussians["means"]
     backend = backend or default_backend(means.device)
     dirs = torch.nn.functional.normalize(means.detach() - camera.center, dim=-1)
-    coeffs = torch.cat([gaussians["sh0"], gaussians["shN"]], dim=1)
-    rgb = torch.clamp_min(eval_sh(sh_degree, coeffs, dirs) + 0.5, 0.0)
+    rgb = torch.clamp_min(eval_sh(sh_degree, gaussians["sh0"], gaussians["shN"], dirs) + 0.5, 0.0)
     features = torch.cat([rgb, gaussians["identity"]], dim=-1)
     args = (means, gaussians["quats"], torch.exp(gaussians["scales"]), torch.sigmoid(gaussians["opacities"]),
             features)

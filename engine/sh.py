@@ -32,7 +32,11 @@ def sh_basis(degree: int, dirs: torch.Tensor) -> torch.Tensor:
     return torch.stack(bands, dim=-1)
 
 
-def eval_sh(degree: int, coeffs: torch.Tensor, dirs: torch.Tensor) -> torch.Tensor:
-    """Colour (N, 3) from SH `coeffs` (N, >= (degree+1)^2, 3) towards unit-normalised `dirs` (N, 3)."""
+def eval_sh(degree: int, sh0: torch.Tensor, sh_rest: torch.Tensor, dirs: torch.Tensor) -> torch.Tensor:
+    """Colour (N, 3) towards unit-normalised `dirs` (N, 3) from the DC term `sh0` (N, 1, 3) and the
+    higher bands `sh_rest` (N, >= (degree+1)^2 - 1, 3), read in place (no concatenated copy per step)."""
     basis = sh_basis(degree, dirs)
-    return torch.einsum("nk,nkc->nc", basis, coeffs[:, : basis.shape[1]])
+    rgb = C0 * sh0[:, 0]
+    if degree > 0:
+        rgb = rgb + torch.einsum("nk,nkc->nc", basis[:, 1:], sh_rest[:, : basis.shape[1] - 1])
+    return rgb

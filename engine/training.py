@@ -18,7 +18,7 @@ from gsplat.strategy import DefaultStrategy, MCMCStrategy
 
 from engine.gaussians import PARAM_NAMES, Gaussians, init_from_points, new_classifier
 from engine.identity_regularizer import IdentityRegularizer
-from engine.image_metrics import ssim
+from engine.image_metrics import psnr_from_mse, ssim
 from engine.rasterize import CameraTensors, render
 from engine.scene import Scene
 from engine.train_config import TrainConfig
@@ -56,7 +56,7 @@ class StepResult:
 
     @property
     def psnr(self) -> float:
-        return -10.0 * math.log10(max(float(self.mse), 1e-12))
+        return psnr_from_mse(float(self.mse))
 
 
 class Trainer:
@@ -101,8 +101,10 @@ class Trainer:
         # gsplat's MCMC trainer starts at opacity 0.5; its 0.1x initial scale is meant for random
         # initialisation and starves a model started from sparse points (measured: 10.5 vs 24.5 dB).
         init_opacity = 0.5 if self.budget else cfg.init_opacity
-        gaussians = init_from_points(points, colors, cfg.sh_degree, init_opacity, cfg.seed)
-        return torch.nn.ParameterDict({k: torch.nn.Parameter(v.to(self.device)) for k, v in gaussians.items()})
+        return self._parameters(init_from_points(points, colors, cfg.sh_degree, init_opacity, cfg.seed))
+
+    def _parameters(self, tensors: Gaussians) -> torch.nn.ParameterDict:
+        return torch.nn.ParameterDict({k: torch.nn.Parameter(tensors[k].to(self.device)) for k in PARAM_NAMES})
 
     def _adam(self, name: str, param: torch.nn.Parameter) -> torch.optim.Adam:
         lr = getattr(self.config, f"lr_{name}") * (self.extent if name == "means" else 1.0)
@@ -132,8 +134,7 @@ class Trainer:
         lr = self._means_lr(step)
         self.optimizers["means"].param_groups[0]["lr"] = lr
         view = self._next_view()
-        sh_degree = min(step // cfg.sh_degree_interval, cfg.sh_degree)
-        out = render(self.params, self.cameras[view], sh_degree)
+        out = render(self.params, self.cameras[view], self.sh_degree)
         target = self.images[view].float() / 255.0
         loss = (1 - cfg.ssim_weight) * (out.rgb - target).abs().mean() + cfg.ssim_weight * (1 - ssim(out.rgb, target))
         if self.masks is not None:
@@ -184,8 +185,7 @@ class Trainer:
 
     def load_state_dict(self, state: dict) -> None:
         self.step_index, self.seconds = state["step"], state["seconds"]
-        self.params = torch.nn.ParameterDict({k: torch.nn.Parameter(state["params"][k].to(self.device))
-                                              for k in PARAM_NAMES})
+        self.params = self._parameters(state["params"])
         self.optimizers = {name: self._adam(name, p) for name, p in self.params.items()}
         for name, optimizer in self.optimizers.items():
             optimizer.load_state_dict(state["optimizers"][name])
