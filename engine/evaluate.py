@@ -17,13 +17,14 @@ def evaluate_views(scene: Scene, views: list[int], gaussians: Gaussians, classif
     num_classes = classifier.out_features
     iou = IoUCounter(num_classes)
     for i in views:
-        out = render(gaussians, CameraTensors.from_camera(scene.cameras[i], device), sh_degree)
+        out = render(gaussians, CameraTensors.from_camera(scene.cameras[i], device), sh_degree,
+                     classifier=classifier, depth=False)
         target = torch.as_tensor(scene.images[i], device=device).float() / 255.0
         image = out.rgb.clamp(0, 1)
         psnrs.append(psnr(image, target))
         ssims.append(float(ssim(image, target)))
         if scene.masks is not None:
-            labels = classifier(out.identity).argmax(-1)
+            labels = out.logits.argmax(-1)
             iou.add(labels, torch.as_tensor(scene.masks[i]).clamp(max=num_classes - 1))
     return {"psnr": sum(psnrs) / max(len(psnrs), 1), "ssim": sum(ssims) / max(len(ssims), 1),
             "identity_miou": iou.miou() if scene.masks is not None else float("nan"), "views": len(views)}

@@ -1,7 +1,9 @@
 """Real spherical harmonics up to degree 3, with the constants of the reference 3DGS code and gsplat.
 
-Colour = basis(direction) . coefficients, one batched product: indexing the coefficients one band at a
-time made autograd materialise a full-size gradient per coefficient (1.1 ms a step at 286k Gaussians).
+Colour = basis(direction) . coefficients as one broadcast product and sum: indexing the coefficients one
+band at a time made autograd materialise a full-size gradient per coefficient (1.1 ms a step at 286k
+Gaussians), and `einsum` turned the product into 286k tiny batched matrix products (1 ms a step, forward
+and backward, on the H200).
 Used by both rasterizer back ends, so colours agree exactly between them.
 """
 
@@ -38,5 +40,5 @@ def eval_sh(degree: int, sh0: torch.Tensor, sh_rest: torch.Tensor, dirs: torch.T
     basis = sh_basis(degree, dirs)
     rgb = C0 * sh0[:, 0]
     if degree > 0:
-        rgb = rgb + torch.einsum("nk,nkc->nc", basis[:, 1:], sh_rest[:, : basis.shape[1] - 1])
+        rgb = rgb + (basis[:, 1:, None] * sh_rest[:, : basis.shape[1] - 1]).sum(1)
     return rgb

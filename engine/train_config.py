@@ -16,8 +16,7 @@ PRESETS: dict[str, dict] = {
     "default": {},
     # A few hundred steps at tiny sizes for CPU tests: densify early and often, no opacity reset.
     "tiny": dict(steps=200, sh_degree=1, sh_degree_interval=100, refine_start=50, refine_stop=150,
-                 refine_every=50, reset_every=100_000, checkpoint_every=100, log_every=10, reg3d_pool=2048,
-                 reg3d_refresh=100),
+                 refine_every=50, reset_every=100_000, checkpoint_every=100, log_every=10, reg3d_refresh=100),
 }
 
 
@@ -50,8 +49,11 @@ class TrainConfig:
     reg3d_k: int = 5
     reg3d_samples: int = 1000
     reg3d_weight: float = 2.0
-    reg3d_pool: int = 8192
-    reg3d_refresh: int = 500
+    # neighbour lists of a pool of Gaussians, rebuilt after each densification and every reg3d_refresh
+    # steps: a rebuild searches all Gaussians (8192 queries: 64 ms at 290k on the H200, 0.6 ms a step
+    # while densifying every 100 steps); 2048 queries, renewed every 200 steps, cost a quarter of that
+    reg3d_pool: int = 2048
+    reg3d_refresh: int = 200
     # densification
     refine_start: int = 500
     refine_stop: int = 15_000

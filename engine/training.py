@@ -13,7 +13,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import torch
-import torch.nn.functional as F
 from gsplat.strategy import DefaultStrategy, MCMCStrategy
 
 from engine.gaussians import PARAM_NAMES, Gaussians, init_from_points, new_classifier
@@ -47,16 +46,27 @@ def num_classes_of(scene: Scene) -> int:
     return max(ids) + 1
 
 
+def pixel_cross_entropy(logits: torch.Tensor, labels: torch.Tensor) -> torch.Tensor:
+    """Mean cross-entropy of logits (..., C) against integer labels (...), as F.cross_entropy computes it.
+
+    Why not F.cross_entropy: its NLL kernels reduce in a single block, 0.37 ms a step (forward and
+    backward) for a 640x480 map on the H200; logsumexp minus a gather is a few plain kernels.
+    """
+    picked = logits.gather(-1, labels[..., None])[..., 0]
+    return (torch.logsumexp(logits, dim=-1) - picked).mean()
+
+
 @dataclass
 class StepResult:
     """Tensors on the device: reading them waits for the GPU, so the loop reads them only when logging."""
 
     loss: torch.Tensor
-    mse: torch.Tensor
+    rgb: torch.Tensor
+    target: torch.Tensor
 
     @property
     def psnr(self) -> float:
-        return psnr_from_mse(float(self.mse))
+        return psnr_from_mse(float(((self.rgb.clamp(0, 1) - self.target) ** 2).mean()))
 
 
 class Trainer:
@@ -134,14 +144,13 @@ class Trainer:
         lr = self._means_lr(step)
         self.optimizers["means"].param_groups[0]["lr"] = lr
         view = self._next_view()
-        out = render(self.params, self.cameras[view], self.sh_degree)
+        classifier = self.classifier if self.masks is not None else None
+        out = render(self.params, self.cameras[view], self.sh_degree, classifier=classifier, depth=False)
         target = self.images[view].float() / 255.0
         loss = (1 - cfg.ssim_weight) * (out.rgb - target).abs().mean() + cfg.ssim_weight * (1 - ssim(out.rgb, target))
         if self.masks is not None:
-            logits = self.classifier(out.identity)
-            classes = logits.shape[-1]
-            loss = loss + cfg.identity_weight * F.cross_entropy(logits.reshape(-1, classes),
-                                                                self.masks[view].reshape(-1)) / math.log(classes)
+            classes = out.logits.shape[-1]
+            loss = loss + cfg.identity_weight * pixel_cross_entropy(out.logits, self.masks[view]) / math.log(classes)
             if cfg.reg3d_every > 0 and step % cfg.reg3d_every == 0:
                 loss = loss + self.regularizer.loss(self.params["identity"], self.classifier, self.params["means"],
                                                     step, self.generator)
@@ -159,7 +168,7 @@ class Trainer:
             self.strategy.step_post_backward(self.params, self.optimizers, self.strategy_state, step, out.info,
                                              packed=False)
         self.step_index += 1
-        return StepResult(loss=loss.detach(), mse=((out.rgb.detach().clamp(0, 1) - target) ** 2).mean())
+        return StepResult(loss=loss.detach(), rgb=out.rgb.detach(), target=target)
 
     @property
     def gaussians(self) -> Gaussians:

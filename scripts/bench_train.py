@@ -1,6 +1,6 @@
 """Benchmark Gaussian Grouping training: wall time, steps/s, peak GPU memory, Gaussians, PSNR/SSIM, mIoU.
 
-    python scripts/bench_train.py --scenes DIR... --budgets 0 300000 [--steps 30000] --results DIR
+    python scripts/bench_train.py --scenes DIR... --budgets 0 300000 [--steps 30000] --results DIR [--runs DIR]
     python scripts/bench_train.py --report                      # docs/benchmarks/train/*.json -> BENCHMARKS.md
 
 Each run writes one JSON (machine, command, settings, numbers) into --results; commit them under
@@ -25,7 +25,23 @@ BENCHMARKS = REPO / "docs" / "BENCHMARKS.md"
 BEGIN, END = "<!-- bench_train:begin -->", "<!-- bench_train:end -->"
 
 
-def run_one(scene: Path, budget: int, steps: int, results: Path) -> dict:
+def warm_up() -> None:
+    """Build and load gsplat's CUDA code before any clock starts: its first call compiles it (about 40 s on
+    a fresh machine, cached afterwards), which is set-up, not training."""
+    import torch
+
+    if not torch.cuda.is_available():
+        return
+    from gsplat import rasterization
+
+    one = torch.ones(1, 3, device="cuda")
+    rasterization(one * torch.tensor([0, 0, 2.0], device="cuda"), torch.tensor([[1.0, 0, 0, 0]], device="cuda"),
+                  one * 0.1, torch.ones(1, device="cuda"), one, torch.eye(4, device="cuda")[None],
+                  torch.tensor([[[50.0, 0, 16], [0, 50, 16], [0, 0, 1]]], device="cuda"), 32, 32)
+    torch.cuda.synchronize()
+
+
+def run_one(scene: Path, budget: int, steps: int, results: Path, runs: Path | None) -> dict:
     import torch
 
     from engine.train_config import TrainConfig
@@ -34,7 +50,8 @@ def run_one(scene: Path, budget: int, steps: int, results: Path) -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         torch.cuda.reset_peak_memory_stats() if torch.cuda.is_available() else None
         start = time.perf_counter()
-        config = TrainConfig(scene=str(scene), out=str(Path(tmp) / "run"), steps=steps, max_gaussians=budget)
+        out = (runs or Path(tmp)) / f"{scene.name}_{budget or 'none'}"
+        config = TrainConfig(scene=str(scene), out=str(out), steps=steps, max_gaussians=budget)
         metrics = train(config)
         wall = time.perf_counter() - start
     record = {
@@ -78,14 +95,16 @@ def main() -> int:
     parser.add_argument("--budgets", type=int, nargs="*", default=[0, 300_000])
     parser.add_argument("--steps", type=int, default=30_000)
     parser.add_argument("--results", default=str(RESULTS))
+    parser.add_argument("--runs", help="keep the run folders here (default: a temporary folder)")
     parser.add_argument("--report", action="store_true")
     args = parser.parse_args()
     if args.report:
         report()
         return 0
+    warm_up()
     for scene in args.scenes:
         for budget in args.budgets:
-            run_one(Path(scene), budget, args.steps, Path(args.results))
+            run_one(Path(scene), budget, args.steps, Path(args.results), Path(args.runs) if args.runs else None)
     return 0
 
 

@@ -77,3 +77,32 @@ def test_gradients_match_finite_differences():
         return image
 
     assert torch.autograd.gradcheck(fn, inputs, eps=1e-6, atol=1e-5, rtol=1e-4)
+
+
+@pytest.mark.parametrize("classes", [6, 20])
+def test_class_logits_blended_directly_equal_classifying_the_blended_identity(classes):
+    """render() projects identities through the classifier before blending when that needs fewer channels
+    (6 classes) and classifies the blended map otherwise (20): logits and gradients must not change."""
+    from engine.gaussians import init_from_points, new_classifier
+    from engine.rasterize import CameraTensors, render
+
+    gen = torch.Generator().manual_seed(0)
+    points = torch.rand(60, 3, generator=gen, dtype=torch.float64) * 0.6 - 0.3
+    points[:, 2] += 2.0
+    base = init_from_points(points.float().numpy(), torch.rand(60, 3, generator=gen).numpy(), 1, 0.5, 0)
+    base["identity"] = torch.randn(60, 16, generator=gen)
+    camera = CameraTensors(VIEW.float(), K.float(), torch.zeros(3), 32, 32)
+    classifier = new_classifier(classes)
+    results = []
+    for direct in (True, False):
+        params = {k: v.clone().requires_grad_(True) for k, v in base.items()}
+        out = render(params, camera, 1, classifier=classifier if direct else None, depth=False)
+        logits = out.logits if direct else classifier(out.identity)
+        weights = torch.rand(logits.shape, generator=torch.Generator().manual_seed(1))
+        (logits * weights).sum().backward()
+        results.append((logits.detach(), params["identity"].grad, params["means"].grad, out))
+    (a, ga, ma, out), (b, gb, mb, _) = results
+    assert (out.identity is None) == (classes <= 16) and out.depth is None
+    torch.testing.assert_close(a, b, rtol=1e-4, atol=1e-5)
+    torch.testing.assert_close(ga, gb, rtol=1e-4, atol=1e-6)
+    torch.testing.assert_close(ma, mb, rtol=1e-3, atol=1e-5)

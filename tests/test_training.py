@@ -35,9 +35,10 @@ def tiny_config(scene: Path, out: Path, **changes) -> TrainConfig:
 def fit_on_train_views(trainer: Trainer, scene) -> tuple[float, dict[int, float]]:
     psnrs, iou = [], IoUCounter(trainer.classifier.out_features)
     for i in scene.train:
-        out = render(trainer.gaussians, CameraTensors.from_camera(scene.cameras[i], CPU), trainer.sh_degree)
+        out = render(trainer.gaussians, CameraTensors.from_camera(scene.cameras[i], CPU), trainer.sh_degree,
+                     classifier=trainer.classifier)
         psnrs.append(psnr(out.rgb.clamp(0, 1), torch.as_tensor(scene.images[i]).float() / 255))
-        iou.add(trainer.classifier(out.identity).argmax(-1), torch.as_tensor(scene.masks[i]))
+        iou.add(out.logits.argmax(-1), torch.as_tensor(scene.masks[i]))
     return sum(psnrs) / len(psnrs), iou.iou()
 
 
@@ -124,3 +125,13 @@ def test_a_run_never_overwrites_and_never_writes_into_the_scene(living_scene: Pa
     train(tiny_config(living_scene, tmp_path / "ok", steps=2))
     assert sorted((p.relative_to(living_scene), p.stat().st_mtime_ns) for p in living_scene.rglob("*")) == before
     assert (run / "mine.txt").read_text() == "keep"
+
+
+def test_pixel_cross_entropy_equals_torch_cross_entropy():
+    from engine.training import pixel_cross_entropy
+
+    gen = torch.Generator().manual_seed(0)
+    logits = torch.randn(7, 9, 5, generator=gen, dtype=torch.float64) * 4
+    labels = torch.randint(5, (7, 9), generator=gen)
+    expected = torch.nn.functional.cross_entropy(logits.reshape(-1, 5), labels.reshape(-1))
+    torch.testing.assert_close(pixel_cross_entropy(logits, labels), expected)
