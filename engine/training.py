@@ -2,7 +2,8 @@
 
 Losses (Gaussian Grouping): 0.8 L1 + 0.2 (1 - SSIM) + CE(classifier(identity map), mask) / log(C)
 + every 5 steps the 3D identity regulariser. No budget: gsplat's DefaultStrategy; a budget
-(--max-gaussians N): gsplat's MCMCStrategy capped at N, with its opacity and scale regularisers.
+(--max-gaussians N): gsplat's MCMCStrategy capped at N (engine.budget_strategy), with its opacity and
+scale regularisers.
 """
 
 from __future__ import annotations
@@ -13,8 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 import torch
-from gsplat.strategy import DefaultStrategy, MCMCStrategy
+from gsplat.strategy import DefaultStrategy
 
+from engine.budget_strategy import BudgetStrategy
 from engine.gaussians import PARAM_NAMES, Gaussians, init_from_points, new_classifier
 from engine.identity_regularizer import IdentityRegularizer
 from engine.image_metrics import psnr_from_mse, ssim
@@ -121,10 +123,10 @@ class Trainer:
         return torch.optim.Adam([{"params": [param], "lr": lr, "name": name}], eps=1e-15,
                                 fused=self.device.type == "cuda")
 
-    def _strategy(self) -> DefaultStrategy | MCMCStrategy:
+    def _strategy(self) -> DefaultStrategy | BudgetStrategy:
         cfg = self.config
         if self.budget:
-            return MCMCStrategy(cap_max=cfg.max_gaussians, refine_start_iter=cfg.refine_start,
+            return BudgetStrategy(cap_max=cfg.max_gaussians, refine_start_iter=cfg.refine_start,
                                 refine_stop_iter=cfg.refine_stop, refine_every=cfg.refine_every)
         return DefaultStrategy(refine_start_iter=cfg.refine_start, refine_stop_iter=cfg.refine_stop,
                                refine_every=cfg.refine_every, reset_every=cfg.reset_every, verbose=False)

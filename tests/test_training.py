@@ -135,3 +135,25 @@ def test_pixel_cross_entropy_equals_torch_cross_entropy():
     labels = torch.randint(5, (7, 9), generator=gen)
     expected = torch.nn.functional.cross_entropy(logits.reshape(-1, 5), labels.reshape(-1))
     torch.testing.assert_close(pixel_cross_entropy(logits, labels), expected)
+
+
+def test_budget_noise_equals_gsplat_mcmc_noise():
+    """BudgetStrategy's position noise is gsplat's inject_noise_to_position, only computed differently."""
+    from gsplat.strategy.ops import inject_noise_to_position
+
+    from engine.budget_strategy import inject_position_noise
+    from engine.gsplat_cpu import enable_cpu_mcmc
+
+    enable_cpu_mcmc()
+    gen = torch.Generator().manual_seed(0)
+    base = {"means": torch.randn(500, 3, generator=gen), "quats": torch.randn(500, 4, generator=gen),
+            "scales": torch.randn(500, 3, generator=gen) - 2,
+            "opacities": torch.randn(500, generator=gen) * 4 - 5}  # a spread of opacities around the gate
+    moved = []
+    for inject in (lambda p: inject_noise_to_position(p, {}, {}, 5.0), lambda p: inject_position_noise(p, 5.0)):
+        params = {k: torch.nn.Parameter(v.clone()) for k, v in base.items()}
+        torch.manual_seed(3)
+        inject(params)
+        moved.append(params["means"].detach() - base["means"])
+    assert moved[0].abs().max() > 1e-3  # the case moves something
+    torch.testing.assert_close(moved[1], moved[0], rtol=1e-5, atol=2e-6)  # float32 sums in another order
