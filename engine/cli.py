@@ -46,6 +46,30 @@ def _train(args: argparse.Namespace) -> None:
           file=sys.stderr)
 
 
+def _remove(args: argparse.Namespace) -> None:
+    from engine.removal import RemovalConfig, run_removal
+    from engine.train_config import config_from_args
+
+    report = run_removal(config_from_args(args, RemovalConfig))
+    print(f"removed {report['removed']} of {report['gaussians_before']} Gaussians", file=sys.stderr)
+
+
+def _holes(args: argparse.Namespace) -> None:
+    from engine.holes import HoleConfig, run_holes
+    from engine.train_config import config_from_args
+
+    report = run_holes(config_from_args(args, HoleConfig))
+    print(f"hole masks written; mean IoU against the scene's holes/: {report['mean_iou_vs_truth']}", file=sys.stderr)
+
+
+def _inpaint(args: argparse.Namespace) -> None:
+    from engine.inpaint_run import InpaintConfig, run_inpaint
+    from engine.train_config import config_from_args
+
+    report = run_inpaint(config_from_args(args, InpaintConfig))
+    print(f"inpainted {report['views']} views in {report['inpaint_seconds']:.1f} s", file=sys.stderr)
+
+
 def _version(args: argparse.Namespace) -> None:
     import torch
 
@@ -65,30 +89,44 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True)
     p.add_argument("--max-points", type=int, default=30_000)
     p.add_argument("--seed", type=int, default=0)
-    p.set_defaults(run=_build_scene)
+    p.set_defaults(handler=_build_scene)
     p = sub.add_parser("info", help="load a scene folder and summarise it")
     p.add_argument("--scene", required=True)
-    p.set_defaults(run=_info)
+    p.set_defaults(handler=_info)
     p = sub.add_parser("preview", help="contact sheet of image / gt / mask / depth / hole per view")
     p.add_argument("--scene", required=True)
     p.add_argument("--out", required=True, help="PNG file to write")
     p.add_argument("--rows", type=int, default=3, help="number of views shown")
-    p.set_defaults(run=_preview)
+    p.set_defaults(handler=_preview)
     p = sub.add_parser("train", help="train Gaussians with identities (Gaussian Grouping on gsplat)")
     from engine.train_config import add_config_arguments
 
     add_config_arguments(p)
     p.add_argument("--resume", action="store_true", help="continue the run in --out from its newest checkpoint")
-    p.set_defaults(run=_train)
+    p.set_defaults(handler=_train)
+    from engine.holes import HoleConfig
+    from engine.removal import RemovalConfig
+
+    p = sub.add_parser("remove", help="delete an object's Gaussians (by id/name or a 3D box) and render the rest")
+    add_config_arguments(p, RemovalConfig, required=("run",))
+    p.set_defaults(handler=_remove)
+    p = sub.add_parser("holes", help="depth-guided hole masks: object pixels whose background no view saw")
+    add_config_arguments(p, HoleConfig, required=("run",))
+    p.set_defaults(handler=_holes)
+    from engine.inpaint_run import InpaintConfig
+
+    p = sub.add_parser("inpaint", help="fill the hole masks of the removed renders (RGB and depth) in 2D")
+    add_config_arguments(p, InpaintConfig, required=("run",))
+    p.set_defaults(handler=_inpaint)
     p = sub.add_parser("version", help="engine, torch and CUDA versions (the add-on's health check)")
-    p.set_defaults(run=_version)
+    p.set_defaults(handler=_version)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        args.run(args)
+        args.handler(args)
     except InputError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

@@ -34,7 +34,8 @@ def read_png(path: Path, kind: str = "image") -> np.ndarray:
 
 
 def write_png(path: Path, array: np.ndarray) -> None:
-    """Write (H, W, 3) RGB or (H, W) single-channel uint8 as PNG."""
+    """Write (H, W, 3) RGB or (H, W) single-channel uint8 as PNG, creating the folder."""
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
     array = np.ascontiguousarray(array)
     if array.ndim == 3:
         array = cv2.cvtColor(array, cv2.COLOR_RGB2BGR)
@@ -75,10 +76,11 @@ def read_depth(path: Path) -> np.ndarray:
 def write_depth(path: Path, depth: np.ndarray) -> None:
     """Write (H, W) float32 depth as a one-channel EXR (channel 'Y').
 
-    OpenImageIO scrambles a 2-D array silently, so it is given (H, W, 1).
+    OpenImageIO scrambles a 2-D array silently, so it is given (H, W, 1). The folder is created.
     """
     import OpenImageIO as oiio
 
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
     depth = np.ascontiguousarray(depth, dtype=np.float32)[..., None]
     spec = oiio.ImageSpec(depth.shape[1], depth.shape[0], 1, oiio.FLOAT)
     spec.channelnames = ("Y",)

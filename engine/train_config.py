@@ -66,6 +66,10 @@ class TrainConfig:
     keep_checkpoints: int = 2
     log_every: int = 100
 
+    def sh_degree_at(self, step: int) -> int:
+        """SH bands in use after `step` steps: one more every sh_degree_interval, up to sh_degree."""
+        return min(step // self.sh_degree_interval, self.sh_degree)
+
     def resolved(self) -> TrainConfig:
         """Apply the preset's values to fields the user left at their defaults."""
         if self.preset not in PRESETS:
@@ -75,14 +79,21 @@ class TrainConfig:
         return dataclasses.replace(self, **changes)
 
 
-def add_config_arguments(parser: argparse.ArgumentParser, cls=TrainConfig, skip: tuple[str, ...] = ()) -> None:
-    """One --option per dataclass field, typed from its default."""
+def add_config_arguments(parser: argparse.ArgumentParser, cls=TrainConfig, skip: tuple[str, ...] = (),
+                         required: tuple[str, ...] = ("scene", "out")) -> None:
+    """One --option per dataclass field, typed from its default (bools as --x/--no-x, lists of numbers)."""
     for f in dataclasses.fields(cls):
         if f.name in skip:
             continue
-        default = f.default
-        parser.add_argument(f"--{f.name.replace('_', '-')}", type=type(default), default=default,
-                            required=f.name in ("scene", "out"), help=f"(default: {default})")
+        flag = f"--{f.name.replace('_', '-')}"
+        if f.default_factory is not dataclasses.MISSING:
+            parser.add_argument(flag, type=float, nargs="*", default=f.default_factory(), help="(default: none)")
+        elif isinstance(f.default, bool):
+            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=f.default,
+                                help=f"(default: {f.default})")
+        else:
+            parser.add_argument(flag, type=type(f.default), default=f.default, required=f.name in required,
+                                help=f"(default: {f.default})")
 
 
 def config_from_args(args: argparse.Namespace, cls=TrainConfig):

@@ -178,7 +178,7 @@ class Trainer:
 
     @property
     def sh_degree(self) -> int:
-        return min(self.step_index // self.config.sh_degree_interval, self.config.sh_degree)
+        return self.config.sh_degree_at(self.step_index)
 
     # --- checkpoints -------------------------------------------------------------------------------------
     def state_dict(self) -> dict:

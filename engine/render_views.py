@@ -1,0 +1,36 @@
+"""Render a set of Gaussians into numpy pictures for the stages that write files (removal, holes, sheets)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+
+from engine.camera import Camera
+from engine.gaussians import Gaussians
+from engine.rasterize import CameraTensors, render
+
+MIN_ALPHA = 0.5  # below this the expected depth is mostly background-free guesswork: stored as inf
+
+
+@dataclass
+class ViewPicture:
+    rgb: np.ndarray  # (H, W, 3) uint8
+    depth: np.ndarray  # (H, W) float32 z-depth, inf where alpha < MIN_ALPHA
+    labels: np.ndarray | None  # (H, W) uint8 argmax class, with a classifier
+
+
+@torch.no_grad()
+def render_pictures(gaussians: Gaussians, cameras: list[Camera], sh_degree: int, device: torch.device,
+                    classifier: torch.nn.Linear | None = None) -> Iterator[ViewPicture]:
+    """One ViewPicture per camera, in order; the Gaussians are moved to `device` once."""
+    on_device = {k: v.to(device) for k, v in gaussians.items()}
+    classifier = classifier.to(device) if classifier is not None else None
+    for camera in cameras:
+        out = render(on_device, CameraTensors.from_camera(camera, device), sh_degree, classifier=classifier)
+        depth = torch.where(out.alpha >= MIN_ALPHA, out.depth, torch.full_like(out.depth, float("inf")))
+        rgb = (out.rgb.clamp(0, 1) * 255 + 0.5).to(torch.uint8)
+        labels = out.logits.argmax(-1).to(torch.uint8).cpu().numpy() if out.logits is not None else None
+        yield ViewPicture(rgb=rgb.cpu().numpy(), depth=depth.float().cpu().numpy(), labels=labels)

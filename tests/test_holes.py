@@ -1,0 +1,55 @@
+"""Hole masks: a hand-built two-camera scene with a worked-out answer, then the whole stage on a tiny run."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from engine.camera import Camera, pixel_grid
+from engine.visibility import unseen_mask
+
+F, W, H = 100.0, 120, 80
+WALL, SQUARE, HALF = 4.0, 2.0, 0.25  # a wall at z = 4, a square object of half-width 0.25 at z = 2
+
+
+def camera_at(x: float) -> Camera:
+    return Camera(name=f"x{x}.png", width=W, height=H, fx=F, fy=F, cx=W / 2, cy=H / 2, R=np.eye(3),
+                  t=np.array([-x, 0.0, 0.0]))
+
+
+def depth_seen_from(camera: Camera, with_object: bool) -> np.ndarray:
+    """Ray-cast z-depth: the square when a pixel's ray hits it, else the wall."""
+    u, v = pixel_grid(camera)
+    x_at_square = -camera.t[0] + (u - camera.cx) / F * SQUARE
+    y_at_square = (v - camera.cy) / F * SQUARE
+    hits = (np.abs(x_at_square) <= HALF) & (np.abs(y_at_square) <= HALF)
+    depth = np.full((H, W), WALL)
+    if with_object:
+        depth[hits] = SQUARE
+    return depth, hits
+
+
+def test_hole_is_the_part_of_the_shadow_that_no_view_sees():
+    """Camera A at x = 0, camera B at x = 0.5, both facing the wall. A wall point (X, Y) is hidden from a
+    camera at x = c when its ray crosses the square: |c + (X - c) / 2| <= 0.25 and |Y| <= 0.5. From A that
+    is |X| <= 0.5, from B -1 <= X <= 0, so the hole in A is the square's pixels with -0.5 <= X <= 0, i.e.
+    (u - cx) / f in [-0.125, 0]: the left half of the object in A."""
+    a, b = camera_at(0.0), camera_at(0.5)
+    depth_a, region = depth_seen_from(a, with_object=True)
+    depth_b, _ = depth_seen_from(b, with_object=True)
+    removed_a, _ = depth_seen_from(a, with_object=False)
+    hole = unseen_mask(a, region, removed_a, [a, b], [depth_a, depth_b], rel_tol=0.01)
+    u, _ = pixel_grid(a)
+    expected = region & ((u - a.cx) / F >= -0.125) & ((u - a.cx) / F <= 0.0)
+    assert expected.sum() > 100 and region.sum() > 1.8 * expected.sum()
+    mismatched = hole ^ expected
+    assert mismatched.sum() <= 2 * H  # at most the pixel column on the boundary X = 0 may go either way
+    assert not (hole & ~region).any()
+
+
+def test_a_view_alone_never_sees_behind_its_own_object_and_a_view_with_no_object_sees_everything():
+    a, b = camera_at(0.0), camera_at(0.5)
+    depth_a, region = depth_seen_from(a, with_object=True)
+    removed_a, _ = depth_seen_from(a, with_object=False)
+    assert (unseen_mask(a, region, removed_a, [a], [depth_a]) == region).all()
+    clear_b, _ = depth_seen_from(b, with_object=False)
+    assert not unseen_mask(a, region, removed_a, [a, b], [depth_a, clear_b]).any()
