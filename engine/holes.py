@@ -6,7 +6,10 @@ surface the *removed* scene renders there (removed/depth) and tested against eve
 frame, and not behind the surface that view saw (within a relative tolerance), so the object itself hides
 it where it stood. A pixel no view sees is hole. This is backward warping (engine.visibility, the same
 test the scene generator uses for its exact holes/): no forward-splatting pinholes, no last-write-wins,
-and the depth compared is the point's z in the testing view, not the source view's depth value. Optional
+and the depth compared is the point's z in the testing view, not the source view's depth value. Pixels
+where the removed scene renders no surface (alpha below 0.5: the unseen underside of the object was never
+reconstructed) are hole as well; the generator's exact test counts them as seen, since for it an
+infinite depth is open sky. Optional
 dilation: LaMa wants larger masks, and the benchmark paper dilates.
 """
 
@@ -69,8 +72,9 @@ def run_holes(config: HoleConfig) -> dict:
         for i, camera in enumerate(scene.cameras):
             region = read_png(removed / "masks" / camera.name, kind="mask") > 0
             background = read_depth(removed / "depth" / str(Path(camera.name).with_suffix(".exr")))
+            # where the removed scene renders no surface at all, nothing is there to show: hole
             hole = unseen_mask(camera, region, background, train_cameras, seen_depths, config.rel_tol)
-            hole = dilate(hole, config.dilate)
+            hole = dilate(hole | (region & ~np.isfinite(background)), config.dilate)
             write_png(tmp / camera.name, hole.astype(np.uint8) * 255)
             record = {"view": camera.name, "region_px": int(region.sum()), "hole_px": int(hole.sum())}
             if i in scene.holes:

@@ -8,8 +8,9 @@ in every training view that has it in frame. A table Gaussian seen beside the ob
 
 The output folder (default RUN/removed) holds the remaining Gaussians as a standard PLY, renders of every
 view (images/, depth/), the object's mask per view (masks/, the region stage 3 looks for holes in),
-removal.json (selection counts, config, and PSNR against gt/ outside the true hole on test views: what the
-removal leaves behind, floaters included), and a contact sheet.
+removal.json (selection counts, config, PSNR against gt/ on test views outside the true hole, and on the
+revealed part of the object's region that other views saw: remnants of the object show there; gt/ also
+lacks the object's shadow, which bounds the first number), and a contact sheet.
 """
 
 from __future__ import annotations
@@ -129,16 +130,16 @@ def run_removal(config: RemovalConfig) -> dict:
         source = run.gaussians if obj is not None else keep(run.gaussians, ~removed)
         regions = render_pictures(source, scene.cameras, run.sh_degree, device, run.classifier)
         after = render_pictures(remaining, scene.cameras, run.sh_degree, device)
-        scores, sheet = [], []
+        scores, revealed, sheet = [], [], []
         for i, (camera, original, picture) in enumerate(zip(scene.cameras, regions, after, strict=True)):
             region = _object_region(scene, i, obj, original)
             write_png(tmp / "images" / camera.name, picture.rgb)
             write_depth(tmp / "depth" / _exr(camera.name), picture.depth)
             write_png(tmp / "masks" / camera.name, region.astype(np.uint8) * 255)
             if i in scene.gt_images and i in scene.holes and i in scene.test:
-                outside = ~scene.holes[i]
-                scores.append(psnr(torch.from_numpy(picture.rgb[outside]) / 255.0,
-                                   torch.from_numpy(scene.gt_images[i][outside]) / 255.0))
+                scores.append(_psnr_where(picture.rgb, scene.gt_images[i], ~scene.holes[i]))
+                if (region & ~scene.holes[i]).any():
+                    revealed.append(_psnr_where(picture.rgb, scene.gt_images[i], region & ~scene.holes[i]))
             if len(sheet) < 6 and i in scene.test:
                 sheet.append(np.concatenate([label(scene.images[i], f"{camera.name} input"),
                                              label(overlay(scene.images[i], region), "object region"),
@@ -150,11 +151,16 @@ def run_removal(config: RemovalConfig) -> dict:
         report = {"config": dataclasses.asdict(config), "object": dataclasses.asdict(obj) if obj else None,
                   "gaussians_before": int(len(removed)), "removed": int(removed.sum()),
                   "gaussians_after": int((~removed).sum()), "selected_by": counts,
-                  "psnr_outside_hole": float(np.mean(scores)) if scores else None, "views_scored": len(scores)}
+                  "psnr_outside_hole": float(np.mean(scores)) if scores else None,
+                  "psnr_revealed": float(np.mean(revealed)) if revealed else None, "views_scored": len(scores)}
         (tmp / "removal.json").write_text(json.dumps(report, indent=1))
     emit("done", stage="removal", out=str(out), removed=report["removed"],
          psnr_outside_hole=report["psnr_outside_hole"])
     return report
+
+
+def _psnr_where(image: np.ndarray, truth: np.ndarray, where: np.ndarray) -> float:
+    return psnr(torch.from_numpy(image[where]) / 255.0, torch.from_numpy(truth[where]) / 255.0)
 
 
 def _exr(name: str) -> str:

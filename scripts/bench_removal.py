@@ -1,0 +1,121 @@
+"""Benchmark removal and hole masks on a generated scene: which threshold, hull or not, which tolerance.
+
+    python scripts/bench_removal.py --scene DIR [--run RUN | --budget 100000] --results DIR
+    python scripts/bench_removal.py --report        # docs/benchmarks/removal/*.json -> BENCHMARKS.md
+
+For each identity threshold, with and without the visual-hull clean-up: Gaussians removed, and PSNR of the
+removed scene against gt/ outside the true hole on test views (what removal leaves behind: remnants of the
+object and floaters lower it). Then hole masks at several depth tolerances: mean IoU against the scene's
+exact holes/, hole size relative to the object's region, seconds. Engine Python; GPU for real scenes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shlex
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))
+RESULTS = REPO / "docs" / "benchmarks" / "removal"
+BENCHMARKS = REPO / "docs" / "BENCHMARKS.md"
+BEGIN, END = "<!-- bench_removal:begin -->", "<!-- bench_removal:end -->"
+
+
+def measure(scene: Path, run: Path, thresholds: list[float], tolerances: list[float], work: Path) -> dict:
+    from engine.holes import HoleConfig, run_holes
+    from engine.removal import RemovalConfig, run_removal
+    from engine.scene import load_scene
+
+    target = load_scene(scene).target
+    removals = []
+    for threshold in thresholds:
+        for hull in (False, True):
+            start = time.perf_counter()
+            report = run_removal(RemovalConfig(run=str(run), object=str(target.id), threshold=threshold, hull=hull,
+                                               out=str(work / f"removed_{threshold}_{hull}")))
+            removals.append({"threshold": threshold, "hull": hull, "removed": report["removed"],
+                             "psnr_outside_hole": round(report["psnr_outside_hole"], 2),
+                             "psnr_revealed": report["psnr_revealed"] and round(report["psnr_revealed"], 2),
+                             "seconds": round(time.perf_counter() - start, 1)})
+    default = RemovalConfig()
+    removed = work / f"removed_{default.threshold}_{default.hull}"
+    holes = []
+    for tol in tolerances:
+        start = time.perf_counter()
+        report = run_holes(HoleConfig(run=str(run), removed=str(removed), out=str(work / f"holes_{tol}"), rel_tol=tol))
+        holes.append({"rel_tol": tol, "mean_iou": round(report["mean_iou_vs_truth"], 3),
+                      "hole_to_region": round(report["hole_to_region"], 3),
+                      "seconds": round(time.perf_counter() - start, 1)})
+    return {"removals": removals, "holes": holes}
+
+
+def run_bench(args: argparse.Namespace) -> None:
+    import torch
+
+    from engine.train_config import TrainConfig
+    from engine.train_run import train
+
+    scene = Path(args.scene)
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = args.work or tmp
+        run = Path(args.run) if args.run else Path(tmp) / "run"
+        metrics = None
+        if not args.run:
+            metrics = train(TrainConfig(scene=str(scene), out=str(run), max_gaussians=args.budget))
+        record = {"scene": scene.name, "budget": args.budget, "train_psnr": metrics and round(metrics["psnr"], 2),
+                  **measure(scene, run, args.thresholds, args.tolerances, Path(tmp)),
+                  "device": torch.cuda.get_device_name() if torch.cuda.is_available() else "cpu",
+                  "command": "python " + shlex.join(sys.argv)}
+    results = Path(args.results)
+    results.mkdir(parents=True, exist_ok=True)
+    (results / f"{scene.name}.json").write_text(json.dumps(record, indent=1))
+    print(json.dumps(record), flush=True)
+
+
+def report() -> None:
+    lines = []
+    for path in sorted(RESULTS.glob("*.json")):
+        r = json.loads(path.read_text())
+        lines += [f"**{r['scene']}** ({r['device']}, trained with budget {r['budget']}, test PSNR {r['train_psnr']})",
+                  "", "| threshold | hull | Gaussians removed | PSNR outside true hole | PSNR revealed | seconds |",
+                  "|---|---|---|---|---|---|"]
+        lines += [f"| {m['threshold']} | {'yes' if m['hull'] else 'no'} | {m['removed']:,} | "
+                  f"{m['psnr_outside_hole']} | {m.get('psnr_revealed')} | {m['seconds']} |" for m in r["removals"]]
+        lines += ["", "| depth tolerance | hole IoU vs truth | hole / object pixels | seconds |", "|---|---|---|---|"]
+        lines += [f"| {h['rel_tol']} | {h['mean_iou']} | {h['hole_to_region']} | {h['seconds']} |" for h in r["holes"]]
+        lines += ["", f"Command: `{r['command']}`", ""]
+    section = "\n".join([BEGIN, *lines, END])
+    text = BENCHMARKS.read_text()
+    if BEGIN in text:
+        text = text[: text.index(BEGIN)] + section + text[text.index(END) + len(END):]
+    else:
+        text += "\n## Removal and hole masks\n\n" + section + "\n"
+    BENCHMARKS.write_text(text)
+    print(f"wrote {BENCHMARKS}")
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--scene")
+    parser.add_argument("--run", help="an existing training run of --scene (default: train one)")
+    parser.add_argument("--budget", type=int, default=100_000)
+    parser.add_argument("--thresholds", type=float, nargs="*", default=[0.1, 0.3, 0.5, 0.7, 0.9])
+    parser.add_argument("--tolerances", type=float, nargs="*", default=[0.005, 0.01, 0.02, 0.05])
+    parser.add_argument("--results", default=str(RESULTS))
+    parser.add_argument("--work", help="keep the runs, removals and hole masks here (default: a temporary folder)")
+    parser.add_argument("--report", action="store_true")
+    args = parser.parse_args()
+    if args.report:
+        report()
+    else:
+        run_bench(args)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
