@@ -3,9 +3,11 @@
 For each view, the candidate pixels are the removed object's region (removed/masks). Each is lifted to the
 surface the *removed* scene renders there (removed/depth) and tested against every training view's
 *original* rendered depth: the point counts as seen when it lies in front of the view (z > 0), inside its
-frame, and not behind the surface that view saw (within a relative tolerance), so the object itself hides
-it where it stood. A pixel no view sees is hole. This is backward warping (engine.visibility, the same
-test the scene generator uses for its exact holes/): no forward-splatting pinholes, no last-write-wins,
+frame, not behind the surface that view saw (within a relative tolerance), and not inside that view's
+object region (3DGIC's background-only source pixels): where the object touches its support the depths
+of the two differ by less than any tolerance, so the masks decide. A pixel no view sees is hole. This is
+backward warping (engine.visibility, the test the scene generator uses for its exact holes/, there without
+masks): no forward-splatting pinholes, no last-write-wins,
 and the depth compared is the point's z in the testing view, not the source view's depth value. Pixels
 where the removed scene renders no surface (alpha below 0.5: the unseen underside of the object was never
 reconstructed) are hole as well; the generator's exact test counts them as seen, since for it an
@@ -40,7 +42,7 @@ class HoleConfig:
     removed: str = ""  # default RUN/removed
     out: str = ""  # default RUN/holes
     scene: str = ""  # default: the scene named in the run's config.json
-    rel_tol: float = 0.02  # depth test tolerance, relative to depth (see docs/BENCHMARKS.md)
+    rel_tol: float = 0.01  # depth test tolerance, relative to depth (see docs/BENCHMARKS.md)
     dilate: int = 0  # px added around each hole afterwards
     device: str = "auto"
 
@@ -66,6 +68,8 @@ def run_holes(config: HoleConfig) -> dict:
         progress.update(k + 1)
     progress.close()
     train_cameras = [scene.cameras[i] for i in train]
+    # the object's region in each training view: it hid whatever lies behind it there
+    occluders = [read_png(removed / "masks" / scene.cameras[i].name, kind="mask") > 0 for i in train]
     views, sheet = [], []
     with atomic_output_dir(out) as tmp:
         progress = Progress("holes", len(scene.cameras))
@@ -73,7 +77,8 @@ def run_holes(config: HoleConfig) -> dict:
             region = read_png(removed / "masks" / camera.name, kind="mask") > 0
             background = read_depth(removed / "depth" / str(Path(camera.name).with_suffix(".exr")))
             # where the removed scene renders no surface at all, nothing is there to show: hole
-            hole = unseen_mask(camera, region, background, train_cameras, seen_depths, config.rel_tol)
+            hole = unseen_mask(camera, region, background, train_cameras, seen_depths, config.rel_tol,
+                               occluders)
             hole = dilate(hole | (region & ~np.isfinite(background)), config.dilate)
             write_png(tmp / camera.name, hole.astype(np.uint8) * 255)
             record = {"view": camera.name, "region_px": int(region.sum()), "hole_px": int(hole.sum())}

@@ -53,3 +53,15 @@ def test_a_view_alone_never_sees_behind_its_own_object_and_a_view_with_no_object
     assert (unseen_mask(a, region, removed_a, [a], [depth_a]) == region).all()
     clear_b, _ = depth_seen_from(b, with_object=False)
     assert not unseen_mask(a, region, removed_a, [a, b], [depth_a, clear_b]).any()
+
+
+def test_an_object_touching_its_support_hides_it_even_where_depths_agree():
+    """Depths alone cannot tell a wall point from an object pressed against it; the views' object masks can."""
+    a, b = camera_at(0.0), camera_at(0.5)
+    _, region = depth_seen_from(a, with_object=True)
+    wall_a, _ = depth_seen_from(a, with_object=False)
+    wall_b, covered_b = depth_seen_from(b, with_object=True)
+    wall_b[:] = WALL  # the object flat against the wall: b's depth is the wall's everywhere
+    assert not unseen_mask(a, region, wall_a, [b], [wall_b]).any()  # depth says b sees it all
+    with_masks = unseen_mask(a, region, wall_a, [b], [wall_b], occluders=[covered_b])
+    assert with_masks.sum() > 0.3 * region.sum()  # b's mask says it saw the object there
