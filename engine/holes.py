@@ -25,11 +25,11 @@ from pathlib import Path
 import numpy as np
 
 from engine.errors import InputError
-from engine.image_io import read_depth, read_png, write_png
+from engine.image_io import exr_name, read_depth, read_png, write_png
+from engine.masks import dilate
 from engine.output_dir import atomic_output_dir
 from engine.preview import label, overlay
 from engine.progress import Progress, emit
-from engine.removal import dilate
 from engine.render_views import render_pictures
 from engine.trained_run import load_run
 from engine.training import pick_device
@@ -59,23 +59,22 @@ def run_holes(config: HoleConfig) -> dict:
     if not (removed / "removal.json").is_file():
         raise InputError(f"{removed}/removal.json missing: run `python -m engine remove --run {run.root} ...` first")
     scene, device = run.scene, pick_device(config.device)
-    train = scene.train
-    progress = Progress("holes: original depth", len(train))
+    train_cameras = [scene.cameras[i] for i in scene.train]
+    progress = Progress("holes: original depth", len(train_cameras))
     seen_depths = []
-    for k, picture in enumerate(render_pictures(run.gaussians, [scene.cameras[i] for i in train], run.sh_degree,
-                                                device)):
+    for k, picture in enumerate(render_pictures(run.gaussians, train_cameras, run.sh_degree, device)):
         seen_depths.append(picture.depth)
         progress.update(k + 1)
     progress.close()
-    train_cameras = [scene.cameras[i] for i in train]
+    regions = [read_png(removed / "masks" / camera.name, kind="mask") > 0 for camera in scene.cameras]
     # the object's region in each training view: it hid whatever lies behind it there
-    occluders = [read_png(removed / "masks" / scene.cameras[i].name, kind="mask") > 0 for i in train]
+    occluders = [regions[i] for i in scene.train]
     views, sheet = [], []
     with atomic_output_dir(out) as tmp:
         progress = Progress("holes", len(scene.cameras))
         for i, camera in enumerate(scene.cameras):
-            region = read_png(removed / "masks" / camera.name, kind="mask") > 0
-            background = read_depth(removed / "depth" / str(Path(camera.name).with_suffix(".exr")))
+            region = regions[i]
+            background = read_depth(removed / "depth" / exr_name(camera.name))
             # where the removed scene renders no surface at all, nothing is there to show: hole
             hole = unseen_mask(camera, region, background, train_cameras, seen_depths, config.rel_tol,
                                occluders)

@@ -65,6 +65,11 @@ def read_exr_channels(path: Path) -> dict[str, np.ndarray]:
     return channels
 
 
+def exr_name(name: str) -> str:
+    """The depth file beside an image: 0001.png -> 0001.exr."""
+    return str(Path(name).with_suffix(".exr"))
+
+
 def read_depth(path: Path) -> np.ndarray:
     """Read a one-channel depth EXR as (H, W) float32."""
     channels = read_exr_channels(path)

@@ -17,12 +17,12 @@ from pathlib import Path
 import numpy as np
 
 from engine.errors import InputError
-from engine.image_io import read_depth, read_png, write_depth, write_png
+from engine.image_io import exr_name, read_depth, read_png, write_depth, write_png
 from engine.inpainters import create
+from engine.masks import dilate
 from engine.output_dir import atomic_output_dir
 from engine.preview import colorize_depth, label, overlay
 from engine.progress import Progress, emit
-from engine.removal import dilate
 from engine.scene import load_scene
 
 SHEET_ROWS = 6
@@ -64,14 +64,14 @@ def run_inpaint(config: InpaintConfig) -> dict:
         progress = Progress(f"inpaint {config.inpainter}", len(scene.cameras))
         for i, camera in enumerate(scene.cameras):
             rgb = read_png(removed / "images" / camera.name)
-            depth = read_depth(removed / "depth" / str(Path(camera.name).with_suffix(".exr")))
+            depth = read_depth(removed / "depth" / exr_name(camera.name))
             hole = dilate(read_png(holes / camera.name, kind="mask") > 0, config.dilate)
             start = time.perf_counter()
             filled = inpainter.inpaint(rgb, hole, "rgb", config.prompt or None)
             filled_depth = inpainter.inpaint(depth, hole, "depth", config.prompt or None)
             seconds += time.perf_counter() - start
             write_png(tmp / "images" / camera.name, filled)
-            write_depth(tmp / "depth" / str(Path(camera.name).with_suffix(".exr")), filled_depth)
+            write_depth(tmp / "depth" / exr_name(camera.name), filled_depth)
             split = "test" if i in scene.test else "train"
             if hole.any() and len(sheets[split]) < SHEET_ROWS:
                 sheets[split].append(_sheet_row(scene.images[i], rgb, hole, filled, filled_depth, camera.name))

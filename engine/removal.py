@@ -20,15 +20,15 @@ import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import cv2
 import numpy as np
 import torch
 
 from engine.camera import Camera, project, sample_nearest
 from engine.errors import InputError
 from engine.gaussians import Gaussians
-from engine.image_io import write_depth, write_png
+from engine.image_io import exr_name, write_depth, write_png
 from engine.image_metrics import psnr
+from engine.masks import dilate
 from engine.output_dir import atomic_output_dir
 from engine.ply_io import save_ply
 from engine.preview import label, overlay
@@ -80,13 +80,6 @@ def inside_visual_hull(means: np.ndarray, cameras: list[Camera], masks: list[np.
     return (framed >= min_views) & (inside == framed)
 
 
-def dilate(mask: np.ndarray, pixels: int) -> np.ndarray:
-    if pixels <= 0:
-        return mask.astype(bool)
-    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pixels + 1, 2 * pixels + 1))
-    return cv2.dilate(mask.astype(np.uint8), kernel) > 0
-
-
 def select(run: TrainedRun, config: RemovalConfig) -> tuple[np.ndarray, dict]:
     """(N,) bool Gaussians to remove, and how many each rule picked."""
     means = run.gaussians["means"].numpy()
@@ -126,15 +119,18 @@ def run_removal(config: RemovalConfig) -> dict:
         save_ply(tmp / "point_cloud.ply", remaining)
         progress = Progress("removal", len(scene.cameras))
         # the object's region: the scene's masks, else the original's rendered labels; for a box, where
-        # the removed Gaussians alone cover a pixel
-        source = run.gaussians if obj is not None else keep(run.gaussians, ~removed)
-        regions = render_pictures(source, scene.cameras, run.sh_degree, device, run.classifier)
+        # the removed Gaussians alone cover a pixel (renders only when the masks do not say)
+        if obj is not None and scene.masks is not None:
+            regions = [None] * len(scene.cameras)
+        else:
+            source = run.gaussians if obj is not None else keep(run.gaussians, ~removed)
+            regions = render_pictures(source, scene.cameras, run.sh_degree, device, run.classifier)
         after = render_pictures(remaining, scene.cameras, run.sh_degree, device)
         scores, revealed, sheet = [], [], []
         for i, (camera, original, picture) in enumerate(zip(scene.cameras, regions, after, strict=True)):
             region = _object_region(scene, i, obj, original)
             write_png(tmp / "images" / camera.name, picture.rgb)
-            write_depth(tmp / "depth" / _exr(camera.name), picture.depth)
+            write_depth(tmp / "depth" / exr_name(camera.name), picture.depth)
             write_png(tmp / "masks" / camera.name, region.astype(np.uint8) * 255)
             if i in scene.gt_images and i in scene.holes and i in scene.test:
                 scores.append(_psnr_where(picture.rgb, scene.gt_images[i], ~scene.holes[i]))
@@ -161,10 +157,6 @@ def run_removal(config: RemovalConfig) -> dict:
 
 def _psnr_where(image: np.ndarray, truth: np.ndarray, where: np.ndarray) -> float:
     return psnr(torch.from_numpy(image[where]) / 255.0, torch.from_numpy(truth[where]) / 255.0)
-
-
-def _exr(name: str) -> str:
-    return str(Path(name).with_suffix(".exr"))
 
 
 def _object_region(scene, i: int, obj, picture) -> np.ndarray:

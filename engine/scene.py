@@ -23,7 +23,7 @@ import numpy as np
 from engine.camera import Camera
 from engine.colmap_model import find_model_dir, read_model
 from engine.errors import InputError
-from engine.image_io import read_depth, read_png
+from engine.image_io import exr_name, read_depth, read_png
 
 LLFF_HOLD = 8  # test split for plain COLMAP folders, as 3DGS does with --eval
 
@@ -99,10 +99,6 @@ def _png(name: str) -> str:
     return str(Path(name).with_suffix(".png"))
 
 
-def _exr(name: str) -> str:
-    return str(Path(name).with_suffix(".exr"))
-
-
 def _checked(array: np.ndarray, camera: Camera, path: Path) -> np.ndarray:
     if array.shape[:2] != (camera.height, camera.width):
         raise InputError(
@@ -119,7 +115,7 @@ def _read_view_image(folder: Path, camera: Camera) -> np.ndarray:
 
 
 def _read_view_depth(folder: Path, camera: Camera) -> np.ndarray:
-    path = folder / _exr(camera.name)
+    path = folder / exr_name(camera.name)
     return _checked(read_depth(path), camera, path)
 
 

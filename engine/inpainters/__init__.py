@@ -38,7 +38,6 @@ class Inpainter:
     """Fill `mask` (True = fill) in an RGB image or a depth map."""
 
     name: ClassVar[str] = ""
-    depth_range: str = "foreground"
 
     def __init__(self, depth_range: str = "foreground", **options) -> None:
         if depth_range not in ("global", "foreground"):

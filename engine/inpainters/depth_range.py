@@ -10,8 +10,9 @@ Grey is 8-bit, as the inpainters the paper feeds depth to see it.
 
 from __future__ import annotations
 
-import cv2
 import numpy as np
+
+from engine.masks import dilate
 
 LEVELS = 255.0
 
@@ -19,9 +20,7 @@ LEVELS = 255.0
 def _ring(mask: np.ndarray) -> np.ndarray:
     ys, xs = np.nonzero(mask)
     size = max(np.ptp(ys) + 1, np.ptp(xs) + 1) if len(ys) else 1
-    radius = max(4, int(0.2 * size))
-    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * radius + 1, 2 * radius + 1))
-    return (cv2.dilate(mask.astype(np.uint8), kernel) > 0) & ~mask
+    return dilate(mask, max(4, int(0.2 * size))) & ~mask
 
 
 def depth_limits(depth: np.ndarray, mask: np.ndarray, depth_range: str) -> tuple[float, float]:

@@ -31,7 +31,7 @@ class Lama(Inpainter):
         if not str(path) or str(path) == "." or not path.is_file():
             raise InputError(f"LaMa weights not found{f' at {path}' if str(path) not in ('', '.') else ''}: "
                              "pass --model /path/big-lama.pt (TorchScript) or lama_fp32.onnx, or set LAMA_MODEL")
-        self.path, self.device = path, device
+        self.device = device
         self.run = self._load_onnx(path) if path.suffix == ".onnx" else self._load_torchscript(path)
 
     def _load_torchscript(self, path: Path):
