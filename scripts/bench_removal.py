@@ -12,8 +12,6 @@ exact holes/, hole size relative to the object's region, seconds. Engine Python;
 from __future__ import annotations
 
 import argparse
-import json
-import shlex
 import sys
 import tempfile
 import time
@@ -21,9 +19,9 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
+from scripts.bench_records import load_records, provenance, save_record, write_section  # noqa: E402
+
 RESULTS = REPO / "docs" / "benchmarks" / "removal"
-BENCHMARKS = REPO / "docs" / "BENCHMARKS.md"
-BEGIN, END = "<!-- bench_removal:begin -->", "<!-- bench_removal:end -->"
 
 
 def measure(scene: Path, run: Path, thresholds: list[float], tolerances: list[float], work: Path) -> dict:
@@ -55,8 +53,6 @@ def measure(scene: Path, run: Path, thresholds: list[float], tolerances: list[fl
 
 
 def run_bench(args: argparse.Namespace) -> None:
-    import torch
-
     from engine.train_config import TrainConfig
     from engine.train_run import train
 
@@ -68,19 +64,13 @@ def run_bench(args: argparse.Namespace) -> None:
         if not args.run:
             metrics = train(TrainConfig(scene=str(scene), out=str(run), max_gaussians=args.budget))
         record = {"scene": scene.name, "budget": args.budget, "train_psnr": metrics and round(metrics["psnr"], 2),
-                  **measure(scene, run, args.thresholds, args.tolerances, Path(tmp)),
-                  "device": torch.cuda.get_device_name() if torch.cuda.is_available() else "cpu",
-                  "command": "python " + shlex.join(sys.argv)}
-    results = Path(args.results)
-    results.mkdir(parents=True, exist_ok=True)
-    (results / f"{scene.name}.json").write_text(json.dumps(record, indent=1))
-    print(json.dumps(record), flush=True)
+                  **measure(scene, run, args.thresholds, args.tolerances, Path(tmp)), **provenance()}
+    save_record(Path(args.results), scene.name, record)
 
 
 def report() -> None:
     lines = []
-    for path in sorted(RESULTS.glob("*.json")):
-        r = json.loads(path.read_text())
+    for r in load_records(RESULTS):
         lines += [f"**{r['scene']}** ({r['device']}, trained with budget {r['budget']}, test PSNR {r['train_psnr']})",
                   "", "| threshold | hull | Gaussians removed | PSNR outside true hole | PSNR revealed | seconds |",
                   "|---|---|---|---|---|---|"]
@@ -89,14 +79,7 @@ def report() -> None:
         lines += ["", "| depth tolerance | hole IoU vs truth | hole / object pixels | seconds |", "|---|---|---|---|"]
         lines += [f"| {h['rel_tol']} | {h['mean_iou']} | {h['hole_to_region']} | {h['seconds']} |" for h in r["holes"]]
         lines += ["", f"Command: `{r['command']}`", ""]
-    section = "\n".join([BEGIN, *lines, END])
-    text = BENCHMARKS.read_text()
-    if BEGIN in text:
-        text = text[: text.index(BEGIN)] + section + text[text.index(END) + len(END):]
-    else:
-        text += "\n## Removal and hole masks\n\n" + section + "\n"
-    BENCHMARKS.write_text(text)
-    print(f"wrote {BENCHMARKS}")
+    write_section("bench_removal", "Removal and hole masks", lines)
 
 
 def main() -> int:

@@ -11,8 +11,6 @@ when measured on the GPU machine. Budget 0 means none (gsplat DefaultStrategy).
 from __future__ import annotations
 
 import argparse
-import json
-import shlex
 import sys
 import tempfile
 import time
@@ -20,9 +18,9 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
+from scripts.bench_records import load_records, provenance, save_record, write_section  # noqa: E402
+
 RESULTS = REPO / "docs" / "benchmarks" / "train"
-BENCHMARKS = REPO / "docs" / "BENCHMARKS.md"
-BEGIN, END = "<!-- bench_train:begin -->", "<!-- bench_train:end -->"
 
 
 def warm_up() -> None:
@@ -58,18 +56,14 @@ def run_one(scene: Path, budget: int, steps: int, results: Path, runs: Path | No
         "scene": scene.name, "budget": budget or None, "steps": steps, "wall_s": round(wall, 1),
         "train_s": metrics["train_seconds"], "steps_per_s": round(steps / metrics["train_seconds"], 1),
         "peak_gpu_mb": metrics["peak_gpu_mb"], "gaussians": metrics["gaussians"], "psnr": round(metrics["psnr"], 2),
-        "ssim": round(metrics["ssim"], 4), "identity_miou": round(metrics["identity_miou"], 3),
-        "device": torch.cuda.get_device_name() if torch.cuda.is_available() else "cpu",
-        "torch": torch.__version__, "command": "python " + shlex.join(sys.argv),
+        "ssim": round(metrics["ssim"], 4), "identity_miou": round(metrics["identity_miou"], 3), **provenance(),
     }
-    results.mkdir(parents=True, exist_ok=True)
-    (results / f"{scene.name}_{budget or 'none'}.json").write_text(json.dumps(record, indent=1))
-    print(json.dumps(record), flush=True)
+    save_record(results, f"{scene.name}_{budget or 'none'}", record)
     return record
 
 
 def report() -> None:
-    records = [json.loads(p.read_text()) for p in sorted(RESULTS.glob("*.json"))]
+    records = load_records(RESULTS)
     lines = ["| scene | budget | steps | training loop | steps/s | peak GPU MB | Gaussians | test PSNR | SSIM "
              "| id mIoU "
              "| device |",
@@ -79,14 +73,8 @@ def report() -> None:
                      f"{r['steps_per_s']} | {r['peak_gpu_mb']} | {r['gaussians']:,} | {r['psnr']} | {r['ssim']} | "
                      f"{r['identity_miou']} | {r['device']} |")
     commands = sorted({r["command"] for r in records})
-    section = "\n".join([BEGIN, *lines, "", "Commands:", *[f"- `{c}`" for c in commands], END])
-    text = BENCHMARKS.read_text() if BENCHMARKS.exists() else "# Benchmarks\n"
-    if BEGIN in text:
-        text = text[: text.index(BEGIN)] + section + text[text.index(END) + len(END):]
-    else:
-        text += "\n## Training (Gaussian Grouping on gsplat)\n\n" + section + "\n"
-    BENCHMARKS.write_text(text)
-    print(f"wrote {BENCHMARKS} ({len(records)} runs)")
+    write_section("bench_train", "Training (Gaussian Grouping on gsplat)",
+                  [*lines, "", "Commands:", *[f"- `{c}`" for c in commands]])
 
 
 def main() -> int:
