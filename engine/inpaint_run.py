@@ -1,9 +1,10 @@
 """Stage 4 over a run: inpaint every view's hole in the removed scene's renders, RGB and depth.
 
 Reads RUN/removed/{images,depth} and RUN/holes, writes RUN/inpainted/<inpainter>/{images,depth}, config.json
-with timings, and sheet_test.png / sheet_train.png (input, removed, hole, inpainted RGB and depth per view)
-atomically. A view with an empty hole is copied through untouched. The mask can be dilated first: LaMa
-fills larger masks better (the paper dilates).
+with timings and the prompt, and sheet_test.png / sheet_train.png (input, removed, hole, inpainted RGB and
+depth per view) atomically. A view with an empty hole is copied through untouched. The mask can be dilated
+first: LaMa fills larger masks better (the paper dilates). An inpainter that takes no mask (nanobanana, the
+paper's direct baseline) gets the scene's input images instead and writes RGB only.
 """
 
 from __future__ import annotations
@@ -32,10 +33,10 @@ SHEET_ROWS = 6
 class InpaintConfig:
     run: str = ""
     inpainter: str = "fsr"
-    model: str = ""  # weights for inpainters that need them (lama: .pt or .onnx; or LAMA_MODEL)
+    model: str = ""  # lama: .pt/.onnx (LAMA_MODEL); diffusion: diffusers folder (DIFFUSION_MODEL); nanobanana: name
     depth_range: str = "foreground"  # global | foreground (the paper's two depth representations)
     dilate: int = 0  # px added to the hole masks before inpainting
-    prompt: str = ""
+    prompt: str = ""  # default: the paper's (diffusion: generic; nanobanana: per scene family)
     removed: str = ""  # default RUN/removed
     holes: str = ""  # default RUN/holes
     out: str = ""  # default RUN/inpainted/<inpainter>
@@ -53,38 +54,52 @@ def run_inpaint(config: InpaintConfig) -> dict:
     removed = Path(config.removed) if config.removed else root / "removed"
     holes = Path(config.holes) if config.holes else root / "holes"
     out = Path(config.out) if config.out else root / "inpainted" / config.inpainter
-    for folder, command in ((removed, "remove"), (holes, "holes")):
-        if not folder.is_dir():
-            raise InputError(f"{folder} missing: run `python -m engine {command} --run {root}` first")
     inpainter = _inpainter(config)
+    if inpainter.uses_mask:
+        for folder, command in ((removed, "remove"), (holes, "holes")):
+            if not folder.is_dir():
+                raise InputError(f"{folder} missing: run `python -m engine {command} --run {root}` first")
     scene = load_scene(json.loads((root / "config.json").read_text())["scene"])
+    prompt = config.prompt or inpainter.default_prompt(scene.root)
     sheets: dict[str, list[np.ndarray]] = {"test": [], "train": []}
     seconds = 0.0
     with atomic_output_dir(out) as tmp:
         progress = Progress(f"inpaint {config.inpainter}", len(scene.cameras))
         for i, camera in enumerate(scene.cameras):
-            rgb = read_png(removed / "images" / camera.name)
-            depth = read_depth(removed / "depth" / exr_name(camera.name))
-            hole = dilate(read_png(holes / camera.name, kind="mask") > 0, config.dilate)
             start = time.perf_counter()
-            filled = inpainter.inpaint(rgb, hole, "rgb", config.prompt or None)
-            filled_depth = inpainter.inpaint(depth, hole, "depth", config.prompt or None)
+            if inpainter.uses_mask:
+                row = _fill_hole(inpainter, config, prompt, scene.images[i], camera.name, removed, holes, tmp)
+            else:  # the direct baseline: the object painted out of the input image, no depth
+                filled = inpainter.inpaint(scene.images[i], None, "rgb", prompt)
+                write_png(tmp / "images" / camera.name, filled)
+                row = np.concatenate([label(scene.images[i], f"{camera.name} input"), label(filled, "inpainted")], 1)
             seconds += time.perf_counter() - start
-            write_png(tmp / "images" / camera.name, filled)
-            write_depth(tmp / "depth" / exr_name(camera.name), filled_depth)
             split = "test" if i in scene.test else "train"
-            if hole.any() and len(sheets[split]) < SHEET_ROWS:
-                sheets[split].append(_sheet_row(scene.images[i], rgb, hole, filled, filled_depth, camera.name))
+            if row is not None and len(sheets[split]) < SHEET_ROWS:
+                sheets[split].append(row)
             progress.update(i + 1)
         progress.close()
         for split, rows in sheets.items():
             if rows:
                 write_png(tmp / f"sheet_{split}.png", np.concatenate(rows, axis=0))
-        report = {"config": dataclasses.asdict(config), "views": len(scene.cameras),
+        report = {"config": dataclasses.asdict(config), "prompt": prompt, "views": len(scene.cameras),
                   "inpaint_seconds": round(seconds, 2)}
         (tmp / "config.json").write_text(json.dumps(report, indent=1))
     emit("done", stage="inpaint", out=str(out), seconds=report["inpaint_seconds"])
     return report
+
+
+def _fill_hole(inpainter, config: InpaintConfig, prompt: str | None, image: np.ndarray, name: str,
+               removed: Path, holes: Path, out: Path) -> np.ndarray | None:
+    """Inpaint one view's hole in the removed render, RGB and depth; its sheet row, or None if no hole."""
+    rgb = read_png(removed / "images" / name)
+    depth = read_depth(removed / "depth" / exr_name(name))
+    hole = dilate(read_png(holes / name, kind="mask") > 0, config.dilate)
+    filled = inpainter.inpaint(rgb, hole, "rgb", prompt)
+    filled_depth = inpainter.inpaint(depth, hole, "depth", prompt)
+    write_png(out / "images" / name, filled)
+    write_depth(out / "depth" / exr_name(name), filled_depth)
+    return _sheet_row(image, rgb, hole, filled, filled_depth, name) if hole.any() else None
 
 
 def _sheet_row(image, removed, hole, filled, filled_depth, name) -> np.ndarray:

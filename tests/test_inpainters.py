@@ -31,8 +31,8 @@ def test_offline_inpainters_fill_a_texture_far_better_than_leaving_the_hole(name
 
 
 def test_registry_lists_every_inpainter_and_rejects_unknown_names():
-    assert {"telea", "navier-stokes", "fsr", "shiftmap", "lama"} <= set(names())
-    with pytest.raises(InputError, match="available: fsr"):
+    assert {"telea", "navier-stokes", "fsr", "shiftmap", "lama", "diffusion", "nanobanana"} <= set(names())
+    with pytest.raises(InputError, match="available: diffusion, fsr"):
         create("photoshop")
 
 
@@ -108,3 +108,99 @@ def test_missing_lama_weights_say_how_to_supply_them(tmp_path, monkeypatch):
     (tmp_path / "bad.pt").write_bytes(b"not a model")
     with pytest.raises(InputError, match="not a TorchScript LaMa model"):
         create("lama", model=str(tmp_path / "bad.pt"))
+
+
+@pytest.fixture(scope="module")
+def tiny_diffusers(tmp_path_factory):
+    """A random Stable Diffusion inpainting pipeline (UNet with 9 input channels), saved as diffusers does."""
+    from diffusers import AutoencoderKL, DDIMScheduler, StableDiffusionInpaintPipeline, UNet2DConditionModel
+    from transformers import CLIPTextConfig, CLIPTextModel, CLIPTokenizer
+
+    torch.manual_seed(0)
+    vocab = {"<|startoftext|>": 0, "<|endoftext|>": 1}
+    for c in "abcdefghijklmnopqrstuvwxyz,.":
+        vocab[c], vocab[c + "</w>"] = len(vocab), len(vocab) + 1
+    tokenizer = CLIPTokenizer(vocab=vocab, merges=[], model_max_length=77)
+    text = CLIPTextModel(CLIPTextConfig(hidden_size=32, intermediate_size=37, num_attention_heads=4,
+                                        num_hidden_layers=2, vocab_size=len(vocab), bos_token_id=0, eos_token_id=1,
+                                        projection_dim=32))
+    unet = UNet2DConditionModel(block_out_channels=(32, 64), layers_per_block=1, sample_size=8, in_channels=9,
+                                out_channels=4, down_block_types=("DownBlock2D", "CrossAttnDownBlock2D"),
+                                up_block_types=("CrossAttnUpBlock2D", "UpBlock2D"), cross_attention_dim=32,
+                                attention_head_dim=8, norm_num_groups=8)
+    vae = AutoencoderKL(block_out_channels=[16, 32], down_block_types=["DownEncoderBlock2D"] * 2,
+                        up_block_types=["UpDecoderBlock2D"] * 2, latent_channels=4, norm_num_groups=8)
+    pipe = StableDiffusionInpaintPipeline(unet=unet, vae=vae, text_encoder=text, tokenizer=tokenizer,
+                                          scheduler=DDIMScheduler(steps_offset=1), safety_checker=None,
+                                          feature_extractor=None, requires_safety_checker=False)
+    folder = tmp_path_factory.mktemp("diffusers") / "sd-inpainting"
+    pipe.save_pretrained(folder)
+    return folder
+
+
+def test_diffusion_loads_a_local_diffusers_folder_and_pastes_the_unmasked_pixels_back(tiny_diffusers):
+    from engine.inpainters.diffusion import NEGATIVE, POSITIVE
+
+    inpainter = create("diffusion", model=str(tiny_diffusers), steps=2, device="cpu")
+    image, mask = TEXTURE[:70, :93], MASK[:70, :93]  # not multiples of 8: resized for the UNet and back
+    out = inpainter.inpaint(image, mask)
+    assert out.shape == image.shape and (out[~mask] == image[~mask]).all()
+    assert np.abs(out[mask].astype(int) - image[mask]).mean() > 5  # the random model really painted the hole
+    assert (inpainter.inpaint(image, mask) == out).all()  # seeded: the same call gives the same picture
+    assert (inpainter.inpaint(image, mask, prompt="a wooden table") != out).any()  # the prompt reaches the model
+    depth = np.where(Y < 8, 20.0, 2.0 + X / 96.0).astype(np.float32)
+    filled = inpainter.inpaint(depth, MASK, kind="depth")
+    assert np.isfinite(filled).all() and (filled[~MASK] == depth[~MASK]).all()
+    defaults = create("diffusion", model=str(tiny_diffusers), device="cpu")
+    assert (defaults.steps, defaults.guidance_rgb, defaults.guidance_depth) == (45, 20.0, 10.0)  # the paper's
+    assert POSITIVE.startswith("Restore only the masked region") and NEGATIVE.startswith("changes outside mask")
+
+
+def test_diffusion_without_a_folder_says_how_to_supply_one(tmp_path, monkeypatch):
+    monkeypatch.delenv("DIFFUSION_MODEL", raising=False)
+    with pytest.raises(InputError, match="DIFFUSION_MODEL"):
+        create("diffusion")
+    with pytest.raises(InputError, match="model_index.json not found"):
+        create("diffusion", model=str(tmp_path))
+
+
+def test_nanobanana_sends_image_prompt_and_key_and_uses_the_answer_at_the_input_size(monkeypatch):
+    from loopback_gemini import gemini_server, input_image, prompt_of
+
+    monkeypatch.setenv("GEMINI_API_KEY", "test-key-123")
+    monkeypatch.setenv("NO_PROXY", "127.0.0.1")
+    with gemini_server() as (url, requests):
+        out = create("nanobanana", base_url=url).inpaint(TEXTURE, None, prompt="Remove the mug.")
+        masked = create("nanobanana", base_url=url).inpaint(TEXTURE, MASK, prompt="Remove the mug.")
+    request = requests[0]
+    assert request["path"] == "/v1beta/models/gemini-2.5-flash-image:generateContent"
+    assert request["headers"]["x-goog-api-key"] == "test-key-123"
+    assert prompt_of(request) == "Remove the mug." and (input_image(request) == TEXTURE).all()
+    assert (out == TEXTURE[:, ::-1]).all()  # the server's mirror image, at twice the size, resized back
+    assert (masked[MASK] == TEXTURE[:, ::-1][MASK]).all() and (masked[~MASK] == TEXTURE[~MASK]).all()
+
+
+def test_nanobanana_failures_end_in_one_line_errors(monkeypatch):
+    from loopback_gemini import gemini_server
+
+    monkeypatch.delenv("GEMINI_API_KEY", raising=False)
+    with pytest.raises(InputError, match="GEMINI_API_KEY is not set"):
+        create("nanobanana")
+    monkeypatch.setenv("GEMINI_API_KEY", "test-key-123")
+    monkeypatch.setenv("NO_PROXY", "127.0.0.1")
+    refusal = {"error": {"code": 400, "message": "API key not valid.", "status": "INVALID_ARGUMENT"}}
+    with gemini_server(lambda request: (400, refusal)) as (url, _):
+        with pytest.raises(InputError, match="400 INVALID_ARGUMENT: API key not valid") as error:
+            create("nanobanana", base_url=url).inpaint(TEXTURE, None, prompt="Remove the mug.")
+    assert "test-key-123" not in str(error.value)
+    text_only = {"candidates": [{"content": {"role": "model", "parts": [{"text": "I cannot edit this."}]},
+                                 "finishReason": "STOP"}]}
+    with gemini_server(lambda request: text_only) as (url, _):
+        with pytest.raises(InputError, match="returned no image .*I cannot edit this"):
+            create("nanobanana", base_url=url).inpaint(TEXTURE, None, prompt="Remove the mug.")
+    with gemini_server() as (url, _):
+        with pytest.raises(InputError, match="RGB images only"):
+            create("nanobanana", base_url=url).inpaint(TEXTURE[..., 0].astype(np.float32), MASK, kind="depth",
+                                                        prompt="x")
+    with pytest.raises(InputError, match="cannot reach http://127.0.0.1:9"):
+        create("nanobanana", base_url="http://127.0.0.1:9").inpaint(TEXTURE, None, prompt="Remove the mug.")

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
+from pathlib import Path
 from typing import ClassVar
 
 import numpy as np
@@ -38,6 +39,11 @@ class Inpainter:
     """Fill `mask` (True = fill) in an RGB image or a depth map."""
 
     name: ClassVar[str] = ""
+    uses_mask: ClassVar[bool] = True  # False: paints the object out of the original image from a prompt
+
+    def default_prompt(self, scene_root: Path) -> str | None:
+        """The prompt for a scene when the user gives none (None: this inpainter needs no prompt)."""
+        return None
 
     def __init__(self, depth_range: str = "foreground", **options) -> None:
         if depth_range not in ("global", "foreground"):
@@ -64,8 +70,12 @@ class Inpainter:
 
     def inpaint_depth(self, depth: np.ndarray, mask: np.ndarray, prompt: str | None) -> np.ndarray:
         grey, near, far = encode_depth(depth, mask, self.depth_range)
-        filled = self.inpaint_rgb(np.repeat(grey[..., None], 3, axis=2), mask, prompt)
+        filled = self.inpaint_grey(np.repeat(grey[..., None], 3, axis=2), mask, prompt)
         return decode_depth(filled.mean(axis=2), near, far)
+
+    def inpaint_grey(self, grey: np.ndarray, mask: np.ndarray, prompt: str | None) -> np.ndarray:
+        """Depth encoded as a grey RGB image; an inpainter with depth-specific settings overrides this."""
+        return self.inpaint_rgb(grey, mask, prompt)
 
 
 def _discover() -> None:

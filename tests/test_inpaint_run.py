@@ -1,0 +1,65 @@
+"""The inpaint stage over a tiny trained run: hole filling from removed renders, and the direct baseline."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from engine.holes import HoleConfig, run_holes
+from engine.image_io import exr_name, read_depth, read_png
+from engine.inpaint_run import InpaintConfig, run_inpaint
+from engine.inpainters.nanobanana import PAPER_PROMPTS
+from engine.removal import RemovalConfig, run_removal
+from engine.scene import load_scene
+
+
+@pytest.fixture(scope="module")
+def stages(tiny_run: Path, tmp_path_factory) -> dict[str, Path]:
+    work = tmp_path_factory.mktemp("inpaint")
+    removed, holes = work / "removed", work / "holes"
+    run_removal(RemovalConfig(run=str(tiny_run), object="plush", out=str(removed), device="cpu"))
+    run_holes(HoleConfig(run=str(tiny_run), removed=str(removed), out=str(holes), device="cpu"))
+    return {"run": tiny_run, "removed": removed, "holes": holes, "work": work}
+
+
+def test_fsr_fills_every_hole_and_passes_views_without_one_through(stages):
+    out = stages["work"] / "fsr"
+    report = run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="fsr", removed=str(stages["removed"]),
+                                       holes=str(stages["holes"]), out=str(out)))
+    scene = load_scene(json.loads((stages["run"] / "config.json").read_text())["scene"])
+    assert report["views"] == len(scene.cameras) and report["prompt"] is None
+    filled_any = False
+    for camera in scene.cameras:
+        hole = read_png(stages["holes"] / camera.name, kind="mask") > 0
+        removed = read_png(stages["removed"] / "images" / camera.name)
+        filled = read_png(out / "images" / camera.name)
+        assert (filled[~hole] == removed[~hole]).all()
+        filled_any |= bool(hole.any() and (filled[hole] != removed[hole]).any())
+        assert np.isfinite(read_depth(out / "depth" / exr_name(camera.name))[hole]).all()
+    assert filled_any and (out / "sheet_train.png").is_file()
+
+
+def test_nanobanana_paints_the_input_images_with_the_paper_prompt_and_never_writes_the_key(stages, monkeypatch,
+                                                                                          capfd):
+    from loopback_gemini import gemini_server, input_image, prompt_of
+
+    key = "secret-key-do-not-log-4711"
+    monkeypatch.setenv("GEMINI_API_KEY", key)
+    monkeypatch.setenv("NO_PROXY", "127.0.0.1")
+    out = stages["work"] / "nanobanana"
+    with gemini_server() as (url, requests):
+        monkeypatch.setenv("GOOGLE_GEMINI_BASE_URL", url)  # the SDK's own setting for another endpoint
+        report = run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="nanobanana", out=str(out)))
+    scene = load_scene(json.loads((stages["run"] / "config.json").read_text())["scene"])
+    assert len(requests) == len(scene.cameras) == report["views"]
+    assert {prompt_of(r) for r in requests} == {PAPER_PROMPTS["livingroom"]}
+    for i, camera in enumerate(scene.cameras):  # the input images, not the removed renders, went out
+        assert (input_image(requests[i]) == scene.images[i]).all()
+        assert (read_png(out / "images" / camera.name) == scene.images[i][:, ::-1]).all()
+    assert not (out / "depth").exists()
+    written = b"".join(p.read_bytes() for p in out.rglob("*") if p.is_file())
+    captured = capfd.readouterr()
+    assert key.encode() not in written and key not in captured.out + captured.err
