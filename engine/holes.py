@@ -11,8 +11,13 @@ masks): no forward-splatting pinholes, no last-write-wins,
 and the depth compared is the point's z in the testing view, not the source view's depth value. Pixels
 where the removed scene renders no surface (alpha below 0.5: the unseen underside of the object was never
 reconstructed) are hole as well; the generator's exact test counts them as seen, since for it an
-infinite depth is open sky. Optional
-dilation: LaMa wants larger masks, and the benchmark paper dilates.
+infinite depth is open sky.
+
+Before warping, rays of the object's region that the removed render lets through the support (the table
+under the object was never built, so the render shows its underside, which side views saw) are stopped at
+the support plane fitted around the object (engine.support_plane). Optional: a margin around each view's
+object mask that hides too, and dilation of the result (LaMa wants larger masks; the paper dilates).
+Measured choices in docs/BENCHMARKS.md.
 """
 
 from __future__ import annotations
@@ -31,6 +36,7 @@ from engine.output_dir import atomic_output_dir
 from engine.preview import label, overlay
 from engine.progress import Progress, emit
 from engine.render_views import render_pictures
+from engine.support_plane import stop_at_plane, support_plane
 from engine.trained_run import load_run
 from engine.training import pick_device
 from engine.visibility import unseen_mask
@@ -44,6 +50,8 @@ class HoleConfig:
     scene: str = ""  # default: the scene named in the run's config.json
     rel_tol: float = 0.01  # depth test tolerance, relative to depth (see docs/BENCHMARKS.md)
     dilate: int = 0  # px added around each hole afterwards
+    support_plane: bool = True  # stop rays that see through the missing support patch at its plane
+    occluder_margin: float = 0.0  # band around each view's object region that hides too, x image diagonal
     device: str = "auto"
 
 
@@ -68,13 +76,19 @@ def run_holes(config: HoleConfig) -> dict:
     progress.close()
     regions = [read_png(removed / "masks" / camera.name, kind="mask") > 0 for camera in scene.cameras]
     # the object's region in each training view: it hid whatever lies behind it there
-    occluders = [regions[i] for i in scene.train]
+    plane = (support_plane(train_cameras, [regions[i] for i in scene.train], seen_depths, config.rel_tol)
+             if config.support_plane else None)
+    occluders = [dilate(regions[i], round(config.occluder_margin * np.hypot(scene.cameras[i].width,
+                                                                         scene.cameras[i].height)))
+                 for i in scene.train]
     views, sheet = [], []
     with atomic_output_dir(out) as tmp:
         progress = Progress("holes", len(scene.cameras))
         for i, camera in enumerate(scene.cameras):
             region = regions[i]
             background = read_depth(removed / "depth" / exr_name(camera.name))
+            if plane is not None:
+                background = stop_at_plane(camera, region, background, plane, config.rel_tol)
             # where the removed scene renders no surface at all, nothing is there to show: hole
             hole = unseen_mask(camera, region, background, train_cameras, seen_depths, config.rel_tol,
                                occluders)
@@ -99,6 +113,7 @@ def run_holes(config: HoleConfig) -> dict:
         with_region = [v for v in views if v["region_px"]]
         report = {"config": dataclasses.asdict(config), "views": views,
                   "mean_iou_vs_truth": float(np.mean(scored)) if scored else None, "views_scored": len(scored),
+                  "support_plane": None if plane is None else [*plane[0].round(5).tolist(), round(plane[1], 5)],
                   "hole_to_region": (float(np.mean([v["hole_px"] / v["region_px"] for v in with_region]))
                                      if with_region else None)}
         (tmp / "holes.json").write_text(json.dumps(report, indent=1))

@@ -6,7 +6,8 @@
 For each identity threshold, with and without the visual-hull clean-up: Gaussians removed, and PSNR of the
 removed scene against gt/ outside the true hole on test views (what removal leaves behind: remnants of the
 object and floaters lower it). Then hole masks at several depth tolerances: mean IoU against the scene's
-exact holes/, hole size relative to the object's region, seconds. Engine Python; GPU for real scenes.
+exact holes/, hole size relative to the object's region, seconds, with and without stopping rays at the
+support plane (engine.support_plane). Engine Python; GPU for real scenes.
 """
 
 from __future__ import annotations
@@ -24,7 +25,8 @@ from scripts.bench_records import load_records, provenance, save_record, write_s
 RESULTS = REPO / "docs" / "benchmarks" / "removal"
 
 
-def measure(scene: Path, run: Path, thresholds: list[float], tolerances: list[float], work: Path) -> dict:
+def measure(scene: Path, run: Path, thresholds: list[float], tolerances: list[float], margins: list[float],
+            work: Path) -> dict:
     from engine.holes import HoleConfig, run_holes
     from engine.removal import RemovalConfig, run_removal
     from engine.scene import load_scene
@@ -43,10 +45,17 @@ def measure(scene: Path, run: Path, thresholds: list[float], tolerances: list[fl
     default = RemovalConfig()
     removed = work / f"removed_{default.threshold}_{default.hull}"
     holes = []
-    for tol in tolerances:
+    base = HoleConfig()
+    variants = [(tol, base.support_plane, base.occluder_margin) for tol in tolerances]
+    variants += [(base.rel_tol, False, base.occluder_margin)]
+    variants += [(base.rel_tol, base.support_plane, margin) for margin in margins if margin != base.occluder_margin]
+    for tol, plane, margin in variants:
         start = time.perf_counter()
-        report = run_holes(HoleConfig(run=str(run), removed=str(removed), out=str(work / f"holes_{tol}"), rel_tol=tol))
-        holes.append({"rel_tol": tol, "mean_iou": round(report["mean_iou_vs_truth"], 3),
+        out = work / f"holes_{tol}_{plane}_{margin}"
+        report = run_holes(HoleConfig(run=str(run), removed=str(removed), out=str(out), rel_tol=tol,
+                                      support_plane=plane, occluder_margin=margin))
+        holes.append({"rel_tol": tol, "support_plane": plane, "occluder_margin": margin,
+                      "mean_iou": round(report["mean_iou_vs_truth"], 3),
                       "hole_to_region": round(report["hole_to_region"], 3),
                       "seconds": round(time.perf_counter() - start, 1)})
     return {"removals": removals, "holes": holes}
@@ -64,7 +73,7 @@ def run_bench(args: argparse.Namespace) -> None:
         if not args.run:
             metrics = train(TrainConfig(scene=str(scene), out=str(run), max_gaussians=args.budget))
         record = {"scene": scene.name, "budget": args.budget, "train_psnr": metrics and round(metrics["psnr"], 2),
-                  **measure(scene, run, args.thresholds, args.tolerances, Path(tmp)), **provenance()}
+                  **measure(scene, run, args.thresholds, args.tolerances, args.margins, Path(tmp)), **provenance()}
     save_record(Path(args.results), scene.name, record)
 
 
@@ -76,10 +85,18 @@ def report() -> None:
                   "|---|---|---|---|---|---|"]
         lines += [f"| {m['threshold']} | {'yes' if m['hull'] else 'no'} | {m['removed']:,} | "
                   f"{m['psnr_outside_hole']} | {m.get('psnr_revealed')} | {m['seconds']} |" for m in r["removals"]]
-        lines += ["", "| depth tolerance | hole IoU vs truth | hole / object pixels | seconds |", "|---|---|---|---|"]
-        lines += [f"| {h['rel_tol']} | {h['mean_iou']} | {h['hole_to_region']} | {h['seconds']} |" for h in r["holes"]]
+        lines += ["", "| depth tolerance | support plane | occluder margin (x diagonal) | hole IoU vs truth "
+                  "| hole / object pixels | seconds |", "|---|---|---|---|---|---|"]
+        lines += [f"| {h['rel_tol']} | {_plane(h)} | {h.get('occluder_margin', 0)} | {h['mean_iou']} | "
+                  f"{h['hole_to_region']} | {h['seconds']} |" for h in r["holes"]]
         lines += ["", f"Command: `{r['command']}`", ""]
     write_section("bench_removal", "Removal and hole masks", lines)
+
+
+def _plane(hole: dict) -> str:
+    if "support_plane" not in hole:
+        return "no (before the plane rule)"
+    return "yes" if hole["support_plane"] else "no"
 
 
 def main() -> int:
@@ -88,7 +105,9 @@ def main() -> int:
     parser.add_argument("--run", help="an existing training run of --scene (default: train one)")
     parser.add_argument("--budget", type=int, default=100_000)
     parser.add_argument("--thresholds", type=float, nargs="*", default=[0.1, 0.3, 0.5, 0.7, 0.9])
-    parser.add_argument("--tolerances", type=float, nargs="*", default=[0.005, 0.01, 0.02, 0.05])
+    parser.add_argument("--tolerances", type=float, nargs="*", default=[0.005, 0.01, 0.02])
+    parser.add_argument("--margins", type=float, nargs="*", default=[0, 0.005, 0.02],
+                        help="occluder margins to try, as fractions of the image diagonal")
     parser.add_argument("--results", default=str(RESULTS))
     parser.add_argument("--work", help="keep the runs, removals and hole masks here (default: a temporary folder)")
     parser.add_argument("--report", action="store_true")

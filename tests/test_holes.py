@@ -65,3 +65,32 @@ def test_an_object_touching_its_support_hides_it_even_where_depths_agree():
     assert not unseen_mask(a, region, wall_a, [b], [wall_b]).any()  # depth says b sees it all
     with_masks = unseen_mask(a, region, wall_a, [b], [wall_b], occluders=[covered_b])
     assert with_masks.sum() > 0.3 * region.sum()  # b's mask says it saw the object there
+
+
+def test_support_plane_is_fitted_around_the_object_and_stops_rays_that_see_through_it():
+    """The object's region in A and B is ringed by wall pixels at z = 4: the fitted plane is the wall. A
+    removed render that looks through the wall (depth 4.4 in the region, as 3DGS shows where the support
+    was never built) is pulled back onto it; pixels in front of the plane and outside the region stay."""
+    from engine.support_plane import stop_at_plane, support_plane
+
+    a, b = camera_at(0.0), camera_at(0.5)
+    (depth_a, region_a), (depth_b, region_b) = depth_seen_from(a, True), depth_seen_from(b, True)
+    normal, offset = support_plane([a, b], [region_a, region_b], [depth_a, depth_b], rel_tol=0.01)
+    assert abs(abs(normal[2]) - 1) < 1e-6 and abs(abs(offset) - WALL) < 1e-6
+    through = np.full((H, W), 4.4)
+    through[:, :10] = 3.0  # something in front of the plane
+    region = region_a.copy()
+    region[:, :10] = True
+    stopped = stop_at_plane(a, region, through, (normal, offset), rel_tol=0.01)
+    assert np.allclose(stopped[region_a], WALL) and (stopped[:, :10] == 3.0).all()
+    assert (stopped[~region] == 4.4).all()
+
+
+def test_no_plane_is_claimed_among_scattered_surfaces():
+    from engine.support_plane import fit_plane
+
+    rng = np.random.default_rng(1)
+    assert fit_plane(rng.uniform(-1, 1, (2000, 3)), tol=0.01) is None
+    flat = np.c_[rng.uniform(-1, 1, (1200, 2)), np.full(1200, 0.3) + rng.normal(0, 0.001, 1200)]
+    normal, offset = fit_plane(np.r_[flat, rng.uniform(-1, 1, (800, 3))], tol=0.01)
+    assert abs(abs(normal[2]) - 1) < 0.01 and abs(abs(offset) - 0.3) < 0.01
