@@ -33,12 +33,22 @@ setup: .venv/.ready .venv-blender/.ready
 	$(BPY) -m pip install -q -r requirements/blender.txt
 	touch $@
 
-# The main job. For now: generate a small livingroom scene and write a preview picture.
+# The main job, end to end on a generated scene: generate -> train (Gaussian Grouping) -> remove the target
+# -> hole masks -> inpaint (fsr, offline). Small sizes so it finishes in a few minutes on a CPU;
+# DEMO_RES, DEMO_VIEWS and DEMO_STEPS scale it up (a GPU is used when there is one).
+DEMO_RES ?= 128
+DEMO_VIEWS ?= 16
+DEMO_STEPS ?= 1000
 demo: .venv/.ready $(BLENDER_ENV)
 	$(BLENDER_RUN) scripts/make_scene.py $(BLENDER_ARGS_SEP) --family livingroom --out $(DEMO)/scene \
-		--views 24 --res 256 --samples 16
+		--views $(DEMO_VIEWS) --res $(DEMO_RES) --samples 16 --gt test
 	$(ENGINE) -m engine preview --scene $(DEMO)/scene --out $(DEMO)/preview.png --rows 4
-	@echo "scene: $(DEMO)/scene   preview: $(DEMO)/preview.png"
+	$(ENGINE) -m engine train --scene $(DEMO)/scene --out $(DEMO)/run --preset tiny --steps $(DEMO_STEPS) --max-gaussians 20000
+	$(ENGINE) -m engine remove --run $(DEMO)/run --object plush
+	$(ENGINE) -m engine holes --run $(DEMO)/run
+	$(ENGINE) -m engine inpaint --run $(DEMO)/run --inpainter fsr --dilate 2
+	@echo "scene: $(DEMO)/scene  run: $(DEMO)/run  pictures: $(DEMO)/preview.png, $(DEMO)/run/removed/sheet.png,"
+	@echo "  $(DEMO)/run/holes/sheet.png, $(DEMO)/run/inpainted/fsr/sheet_test.png"
 
 test: .venv/.ready .venv-blender/.ready lint
 	$(ENGINE) -m pytest tests
