@@ -1,0 +1,93 @@
+"""Metrics against hand-computed values, and the LPIPS / FID networks loaded from files made here."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import torch
+
+from engine.distribution_metrics import frechet_distance, kernel_inception_distance
+from engine.errors import InputError
+
+
+def test_frechet_distance_of_gaussians_with_diagonal_covariances_matches_the_closed_form():
+    """For diagonal covariances FID = |mu_a - mu_b|^2 + sum (sqrt(var_a) - sqrt(var_b))^2."""
+    rng = np.random.default_rng(0)
+    a = rng.normal(0, 1, (4000, 3)) * [1, 2, 3] + [0, 0, 0]
+    b = rng.normal(0, 1, (4000, 3)) * [2, 2, 1] + [1, 0, 2]
+    sa, sb = a.std(0, ddof=1), b.std(0, ddof=1)
+    # the sample covariances are nearly diagonal: allow their small off-diagonal terms
+    expected = ((a.mean(0) - b.mean(0)) ** 2).sum() + ((sa - sb) ** 2).sum()
+    assert frechet_distance(a, b) == pytest.approx(expected, rel=0.01)
+    assert frechet_distance(a, a) == pytest.approx(0, abs=1e-8)
+
+
+def test_frechet_distance_survives_fewer_samples_than_features():
+    rng = np.random.default_rng(1)
+    a, b = rng.normal(0, 1, (10, 64)), rng.normal(0.5, 1, (10, 64))
+    value = frechet_distance(a, b)
+    assert np.isfinite(value) and value > 0 and frechet_distance(a, a) == pytest.approx(0, abs=1e-4)
+
+
+def test_kid_is_unbiased_near_zero_for_one_distribution_and_positive_for_two():
+    rng = np.random.default_rng(2)
+    same = [kernel_inception_distance(rng.normal(0, 1, (50, 8)), rng.normal(0, 1, (50, 8))) for _ in range(40)]
+    assert abs(np.mean(same)) < 3 * np.std(same) / np.sqrt(len(same))
+    assert kernel_inception_distance(rng.normal(0, 1, (50, 8)), rng.normal(1, 1, (50, 8))) > 10 * np.std(same)
+
+
+def save_tiny_lpips_weights(folder):
+    """Random AlexNet features saved with torchvision's keys, and lpips' head layout (lin<k>.model.1.weight)."""
+    from engine.lpips_metric import CHANNELS, alexnet_features
+
+    torch.manual_seed(0)
+    features = alexnet_features()
+    backbone = {f"features.{k}": v for k, v in features.state_dict().items()}
+    backbone["classifier.1.weight"] = torch.zeros(1)  # the rest of torchvision's file, ignored
+    heads = {f"lin{k}.model.1.weight": torch.rand(1, c, 1, 1) for k, c in enumerate(CHANNELS)}
+    torch.save(backbone, folder / "alexnet-owt-7be5be79.pth")
+    torch.save(heads, folder / "alex.pth")
+    return folder / "alexnet-owt-7be5be79.pth", folder / "alex.pth"
+
+
+def test_lpips_is_zero_for_identical_images_grows_with_noise_and_its_map_averages_to_it(tmp_path):
+    from engine.lpips_metric import Lpips
+
+    backbone, heads = save_tiny_lpips_weights(tmp_path)
+    lpips = Lpips(str(backbone), str(heads))
+    torch.manual_seed(1)
+    image = torch.rand(1, 3, 64, 96)
+    small = (image + 0.02 * torch.randn_like(image)).clamp(0, 1)
+    large = (image + 0.2 * torch.randn_like(image)).clamp(0, 1)
+    assert lpips(image, image).item() == 0
+    assert 0 < lpips(image, small).item() < lpips(image, large).item()
+    spatial = lpips.map(image, large)
+    assert spatial.shape == (1, 64, 96)
+    assert spatial.mean().item() == pytest.approx(lpips(image, large).item(), rel=1e-3)  # measured: 5e-5
+
+
+def test_lpips_without_weights_names_the_file_and_the_fix(tmp_path, monkeypatch):
+    from engine.lpips_metric import Lpips
+
+    monkeypatch.delenv("LPIPS_BACKBONE", raising=False)
+    monkeypatch.setenv("TORCH_HOME", str(tmp_path))
+    with pytest.raises(InputError, match="alexnet-owt-7be5be79.pth not found .*LPIPS_BACKBONE"):
+        Lpips()
+
+
+def test_fid_inception_loads_its_own_layout_and_maps_images_to_2048_features(tmp_path, monkeypatch):
+    from engine.fid_inception import FidInception
+
+    torch.manual_seed(0)
+    path = tmp_path / "pt_inception-2015-12-05-6726825d.pth"
+    torch.save(FidInception(load=False).state_dict(), path)
+    model = FidInception(str(path))
+    features = model(torch.rand(2, 3, 48, 64))
+    assert features.shape == (2, 2048) and torch.isfinite(features).all()
+    monkeypatch.delenv("FID_INCEPTION", raising=False)
+    monkeypatch.setenv("TORCH_HOME", str(tmp_path / "empty"))
+    with pytest.raises(InputError, match="FID_INCEPTION"):
+        FidInception()
+    torch.save({"fc.weight": torch.zeros(3)}, tmp_path / "wrong.pth")
+    with pytest.raises(InputError, match="does not hold the FID Inception weights"):
+        FidInception(str(tmp_path / "wrong.pth"))
