@@ -91,3 +91,50 @@ def test_fid_inception_loads_its_own_layout_and_maps_images_to_2048_features(tmp
     torch.save({"fc.weight": torch.zeros(3)}, tmp_path / "wrong.pth")
     with pytest.raises(InputError, match="does not hold the FID Inception weights"):
         FidInception(str(tmp_path / "wrong.pth"))
+
+
+def test_pixel_scores_match_hand_computed_values_and_masked_ones_ignore_everything_outside_the_hole():
+    """Truth grey 100; the render is off by 10 inside the hole and by 50 outside it."""
+    from engine.scores import ScoreConfig, score_views
+
+    truth = np.full((40, 60, 3), 100, np.uint8)
+    hole = np.zeros((40, 60), bool)
+    hole[10:20, 20:40] = True
+    render = np.where(hole[..., None], 110, 150).repeat(3, axis=2).astype(np.uint8)
+    scores = score_views([render], [truth], [hole], ScoreConfig(lpips_backbone="/nonexistent"))
+    v = scores.values
+    share = hole.mean()
+    mse = (share * 10**2 + (1 - share) * 50**2) / 255**2
+    assert v["psnr"] == pytest.approx(10 * np.log10(1 / mse), abs=1e-4)
+    assert v["m_psnr"] == pytest.approx(10 * np.log10(255**2 / 10**2), abs=1e-4)  # outside: ignored
+    same = score_views([truth], [truth], [hole]).values
+    assert same["ssim"] == pytest.approx(1.0, abs=1e-6) and same["m_ssim"] == pytest.approx(1.0, abs=1e-6)
+    assert same["psnr"] == float("inf")
+    assert v["lpips"] is None and "LPIPS_BACKBONE" in scores.unavailable["m_lpips"]
+    assert v["fid"] is None and scores.unavailable["fid"]
+
+
+def test_masked_lpips_and_m_fid_use_the_hole_region(tmp_path, monkeypatch):
+    from engine.fid_inception import FidInception
+    from engine.scores import ScoreConfig, hole_crop, score_views
+
+    backbone, heads = save_tiny_lpips_weights(tmp_path)
+    torch.manual_seed(0)
+    torch.save(FidInception(load=False).state_dict(), tmp_path / "inception.pth")
+    config = ScoreConfig(lpips_backbone=str(backbone), lpips_heads=str(heads),
+                         fid_weights=str(tmp_path / "inception.pth"))
+    rng = np.random.default_rng(0)
+    truths = [rng.integers(0, 255, (80, 120, 3), dtype=np.uint8) for _ in range(3)]
+    holes = [np.zeros((80, 120), bool) for _ in range(3)]
+    for hole in holes:
+        hole[30:50, 50:80] = True
+    far = [t.copy() for t in truths]
+    for image, hole in zip(far, holes, strict=True):
+        image[~hole] = 255 - image[~hole]  # wrong only outside the hole
+    result = score_views(far, truths, holes, config)
+    scores = result.values
+    assert scores["lpips"] > 0.05 and scores["m_lpips"] < 0.5 * scores["lpips"]
+    assert scores["fid"] > 0 and scores["m_fid"] is not None and result.unavailable == {}
+    rows, cols = hole_crop(holes[0])
+    assert rows.stop - rows.start == cols.stop - cols.start == 64  # 30 x 1.5 = 45, raised to 64
+    assert holes[0][rows, cols].sum() == holes[0].sum()  # the crop holds the whole hole
