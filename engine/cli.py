@@ -70,6 +70,16 @@ def _inpaint(args: argparse.Namespace) -> None:
     print(f"inpainted {report['views']} views in {report['inpaint_seconds']:.1f} s", file=sys.stderr)
 
 
+def _complete(args: argparse.Namespace) -> None:
+    from engine.completion import CompleteConfig, run_complete
+    from engine.train_config import config_from_args
+
+    report = run_complete(config_from_args(args, CompleteConfig))
+    print(f"{report['method']}: m-PSNR {report['scores']['m_psnr']} (removed, unfilled: "
+          f"{report['removed_scores']['m_psnr']}), PSNR {report['scores']['psnr']}, {report['seconds']} s",
+          file=sys.stderr)
+
+
 def _version(args: argparse.Namespace) -> None:
     import torch
 
@@ -118,6 +128,11 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("inpaint", help="fill the hole masks of the removed renders (RGB and depth) in 2D")
     add_config_arguments(p, InpaintConfig, required=("run",))
     p.set_defaults(handler=_inpaint)
+    from engine.completion import CompleteConfig
+
+    p = sub.add_parser("complete", help="complete the scene from the inpainted views (init) and score it")
+    add_config_arguments(p, CompleteConfig, required=("run",))
+    p.set_defaults(handler=_complete)
     p = sub.add_parser("version", help="engine, torch and CUDA versions (the add-on's health check)")
     p.set_defaults(handler=_version)
     return parser

@@ -1,0 +1,143 @@
+"""Stage 5: complete the scene from the inpainted views, and score the result on the test views.
+
+`init` (the paper's Init-<inpainter>): train a new scene from scratch on the inpainted images with the
+original cameras and sparse points (COLMAP is not re-run), with the training run's own settings. The
+training scene is a folder of its own, RUN/complete/<Name>/scene (written atomically): sparse/ and
+split.json as they were,
+images/ the inpainted training views (test views: the ground truth when the scene has it, so the
+training run's own test PSNR means something; they are never trained on), masks/ with the removed object's
+id turned into background, and gt/ and holes/ for scoring. Then RUN/complete/<Name>/run is an ordinary
+training run (resumable like any other), and scores.json, written last and atomically, holds the
+metrics of engine.scores on the test views beside the same metrics for the removed-but-unfilled scene.
+
+Method names follow the paper: Init-<inpainter> (FT-<inpainter>(3|All) and Direct-<inpainter> come next).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import shutil
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from engine.errors import InputError
+from engine.image_io import read_png, write_png
+from engine.output_dir import atomic_output_dir, check_new_output
+from engine.progress import emit
+from engine.render_views import render_pictures
+from engine.scene import Scene
+from engine.scores import ScoreConfig, Scores, score_views
+from engine.train_run import train
+from engine.trained_run import load_run
+from engine.training import pick_device
+
+METHODS = ("init",)
+
+
+@dataclass
+class CompleteConfig:
+    run: str = ""
+    method: str = "init"
+    inpainter: str = "fsr"
+    inpainted: str = ""  # default RUN/inpainted/<inpainter>
+    removed: str = ""  # default RUN/removed (its removal.json names the object; its renders are the baseline)
+    out: str = ""  # default RUN/complete/<Name>
+    steps: int = 0  # 0: the training run's own
+    seed: int = 0
+    device: str = "auto"
+    lpips_backbone: str = ""  # see engine.scores.ScoreConfig
+    lpips_heads: str = ""
+    fid_weights: str = ""
+
+
+def method_name(method: str, inpainter: str) -> str:
+    return {"init": f"Init-{inpainter}"}[method]
+
+
+def run_complete(config: CompleteConfig) -> dict:
+    if config.method not in METHODS:
+        raise InputError(f"unknown method {config.method!r}; choose from {', '.join(METHODS)}")
+    original = load_run(config.run)
+    root = original.root
+    removed = Path(config.removed) if config.removed else root / "removed"
+    inpainted = Path(config.inpainted) if config.inpainted else root / "inpainted" / config.inpainter
+    for folder, command in ((removed, "remove"), (inpainted, f"inpaint --inpainter {config.inpainter}")):
+        if not folder.is_dir():
+            raise InputError(f"{folder} missing: run `python -m engine {command} --run {root}` first")
+    target = json.loads((removed / "removal.json").read_text()).get("object")
+    name = method_name(config.method, config.inpainter)
+    out = Path(config.out) if config.out else root / "complete" / name
+    check_new_output(out)
+    start = time.perf_counter()
+    with atomic_output_dir(out / "scene") as tmp:
+        _training_scene(original.scene, inpainted, target and target["id"], tmp)
+    settings = dataclasses.replace(original.config, scene=str(out / "scene"), out=str(out / "run"), seed=config.seed,
+                                   device=config.device, steps=config.steps or original.config.steps)
+    metrics = train(settings)
+    seconds = time.perf_counter() - start
+    scores = score_run(out / "run", _score_config(config))
+    baseline = score_removed(original.scene, removed, _score_config(config))
+    report = {"method": name, "config": dataclasses.asdict(config), "seconds": round(seconds, 1),
+              "gaussians": metrics["gaussians"], "scores": scores.values, "unavailable": scores.unavailable,
+              "removed_scores": baseline.values}
+    partial = out / ".scores.json.tmp"
+    partial.write_text(json.dumps(report, indent=1))
+    partial.replace(out / "scores.json")  # written last: a folder with scores.json is a finished cell
+    emit("done", stage="complete", method=name, out=str(out), m_psnr=report["scores"]["m_psnr"])
+    return report
+
+
+def _score_config(config: CompleteConfig) -> ScoreConfig:
+    device = str(pick_device(config.device))
+    return ScoreConfig(lpips_backbone=config.lpips_backbone, lpips_heads=config.lpips_heads,
+                       fid_weights=config.fid_weights, device=device)
+
+
+def _training_scene(scene: Scene, inpainted: Path, target_id: int | None, out: Path) -> Path:
+    """The scene folder an Init run trains on (see the module docstring)."""
+    shutil.copytree(scene.root / "sparse", out / "sparse")
+    for name in ("split.json", "scene.json"):
+        if (scene.root / name).is_file():
+            shutil.copy2(scene.root / name, out / name)
+    for folder in ("gt", "holes"):
+        if (scene.root / folder).is_dir():
+            shutil.copytree(scene.root / folder, out / folder)
+    for i, camera in enumerate(scene.cameras):
+        if i in scene.test:
+            image = scene.gt_images.get(i, scene.images[i])
+        else:
+            image = read_png(inpainted / "images" / camera.name)
+        write_png(out / "images" / camera.name, image)
+    if scene.masks is not None:
+        for camera, mask in zip(scene.cameras, scene.masks, strict=True):
+            write_png(out / "masks" / Path(camera.name).with_suffix(".png"),
+                      np.where(mask == target_id, 0, mask).astype(np.uint8))
+        objects = [dataclasses.asdict(o) for o in scene.objects if o.id != target_id]
+        (out / "masks" / "objects.json").write_text(json.dumps(objects, indent=1))
+    return out
+
+
+def _test_sets(scene: Scene) -> tuple[list[int], list[np.ndarray], list[np.ndarray]]:
+    views = [i for i in scene.test if i in scene.gt_images and i in scene.holes]
+    if not views:
+        raise InputError(f"{scene.root} has no test views with gt/ and holes/: scores need a generated scene")
+    return views, [scene.gt_images[i] for i in views], [scene.holes[i] for i in views]
+
+
+def score_run(run_dir: Path, config: ScoreConfig) -> Scores:
+    """Scores of a trained run's test renders against its scene's gt/, masked by holes/."""
+    run = load_run(run_dir)
+    views, truths, holes = _test_sets(run.scene)
+    pictures = render_pictures(run.gaussians, [run.scene.cameras[i] for i in views], run.sh_degree,
+                               pick_device(config.device))
+    return score_views([p.rgb for p in pictures], truths, holes, config)
+
+
+def score_removed(scene: Scene, removed: Path, config: ScoreConfig) -> Scores:
+    """The same scores for the removed-but-unfilled scene's renders (the floor every method must beat)."""
+    views, truths, holes = _test_sets(scene)
+    return score_views([read_png(removed / "images" / scene.cameras[i].name) for i in views], truths, holes, config)
