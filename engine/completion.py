@@ -10,7 +10,10 @@ id turned into background, and gt/ and holes/ for scoring. Then RUN/complete/<Na
 training run (resumable like any other), and scores.json, written last and atomically, holds the
 metrics of engine.scores on the test views beside the same metrics for the removed-but-unfilled scene.
 
-Method names follow the paper: Init-<inpainter> (FT-<inpainter>(3|All) and Direct-<inpainter> come next).
+`direct` (the paper's Init-NanoBanana, made general): the same training on images whose whole object
+region was inpainted in the input images (`inpaint --source input`), with no removal step in between.
+
+Method names follow the paper: Init-<inpainter>, Direct-<inpainter> (FT-<inpainter>(3|All) comes next).
 """
 
 from __future__ import annotations
@@ -35,7 +38,7 @@ from engine.train_run import train
 from engine.trained_run import load_run
 from engine.training import pick_device
 
-METHODS = ("init",)
+METHODS = ("init", "direct")
 
 
 @dataclass
@@ -55,7 +58,7 @@ class CompleteConfig:
 
 
 def method_name(method: str, inpainter: str) -> str:
-    return {"init": f"Init-{inpainter}"}[method]
+    return {"init": f"Init-{inpainter}", "direct": f"Direct-{inpainter}"}[method]
 
 
 def run_complete(config: CompleteConfig) -> dict:
@@ -64,10 +67,12 @@ def run_complete(config: CompleteConfig) -> dict:
     original = load_run(config.run)
     root = original.root
     removed = Path(config.removed) if config.removed else root / "removed"
-    inpainted = Path(config.inpainted) if config.inpainted else root / "inpainted" / config.inpainter
-    for folder, command in ((removed, "remove"), (inpainted, f"inpaint --inpainter {config.inpainter}")):
-        if not folder.is_dir():
-            raise InputError(f"{folder} missing: run `python -m engine {command} --run {root}` first")
+    folder = f"direct-{config.inpainter}" if config.method == "direct" else config.inpainter
+    inpainted = Path(config.inpainted) if config.inpainted else root / "inpainted" / folder
+    source = " --source input" if config.method == "direct" else ""
+    for path, command in ((removed, "remove"), (inpainted, f"inpaint --inpainter {config.inpainter}{source}")):
+        if not path.is_dir():
+            raise InputError(f"{path} missing: run `python -m engine {command} --run {root}` first")
     target = json.loads((removed / "removal.json").read_text()).get("object")
     name = method_name(config.method, config.inpainter)
     out = Path(config.out) if config.out else root / "complete" / name

@@ -3,8 +3,9 @@
 Reads RUN/removed/{images,depth} and RUN/holes, writes RUN/inpainted/<inpainter>/{images,depth}, config.json
 with timings and the prompt, and sheet_test.png / sheet_train.png (input, removed, hole, inpainted RGB and
 depth per view) atomically. A view with an empty hole is copied through untouched. The mask can be dilated
-first: LaMa fills larger masks better (the paper dilates). An inpainter that takes no mask (nanobanana, the
-paper's direct baseline) gets the scene's input images instead and writes RGB only.
+first: LaMa fills larger masks better (the paper dilates). With source "input" (the direct baseline,
+RUN/inpainted/direct-<inpainter>) the object's whole region is filled in the input images instead, RGB
+only; an inpainter that takes no mask (nanobanana, the paper's Init-NanoBanana) always works that way.
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ class InpaintConfig:
     depth_range: str = "foreground"  # global | foreground (the paper's two depth representations)
     dilate: int = 0  # px added to the hole masks before inpainting
     prompt: str = ""  # default: the paper's (diffusion: generic; nanobanana: per scene family)
+    source: str = "removed"  # removed: the holes of the removed renders; input: the object in the input images
     removed: str = ""  # default RUN/removed
     holes: str = ""  # default RUN/holes
     out: str = ""  # default RUN/inpainted/<inpainter>
@@ -53,12 +55,16 @@ def run_inpaint(config: InpaintConfig) -> dict:
     root = Path(config.run)
     removed = Path(config.removed) if config.removed else root / "removed"
     holes = Path(config.holes) if config.holes else root / "holes"
-    out = Path(config.out) if config.out else root / "inpainted" / config.inpainter
     inpainter = _inpainter(config)
-    if inpainter.uses_mask:
-        for folder, command in ((removed, "remove"), (holes, "holes")):
-            if not folder.is_dir():
-                raise InputError(f"{folder} missing: run `python -m engine {command} --run {root}` first")
+    direct = config.source == "input" or not inpainter.uses_mask
+    if config.source not in ("removed", "input"):
+        raise InputError(f"source {config.source!r} unknown: use 'removed' or 'input'")
+    out = Path(config.out) if config.out else root / "inpainted" / (f"direct-{config.inpainter}" if direct
+                                                                     else config.inpainter)
+    needed = [(removed, "remove")] if inpainter.uses_mask else []
+    for folder, command in needed + ([] if direct else [(holes, "holes")]):
+        if not folder.is_dir():
+            raise InputError(f"{folder} missing: run `python -m engine {command} --run {root}` first")
     scene = load_scene(json.loads((root / "config.json").read_text())["scene"])
     prompt = config.prompt or inpainter.default_prompt(scene.root)
     sheets: dict[str, list[np.ndarray]] = {"test": [], "train": []}
@@ -67,10 +73,12 @@ def run_inpaint(config: InpaintConfig) -> dict:
         progress = Progress(f"inpaint {config.inpainter}", len(scene.cameras))
         for i, camera in enumerate(scene.cameras):
             start = time.perf_counter()
-            if inpainter.uses_mask:
+            if not direct:
                 row = _fill_hole(inpainter, config, prompt, scene.images[i], camera.name, removed, holes, tmp)
-            else:  # the direct baseline: the object painted out of the input image, no depth
-                filled = inpainter.inpaint(scene.images[i], None, "rgb", prompt)
+            else:  # the direct baseline: the object painted out of the input image (its region), RGB only
+                region = (dilate(read_png(removed / "masks" / camera.name, kind="mask") > 0, config.dilate)
+                          if inpainter.uses_mask else None)
+                filled = inpainter.inpaint(scene.images[i], region, "rgb", prompt)
                 write_png(tmp / "images" / camera.name, filled)
                 row = np.concatenate([label(scene.images[i], f"{camera.name} input"), label(filled, "inpainted")], 1)
             seconds += time.perf_counter() - start

@@ -87,3 +87,22 @@ def test_init_completion_trains_on_the_inpainted_views_and_beats_the_unfilled_ho
     scene = trained.scene
     for i in scene.train:  # trained on the inpainted views
         assert (scene.images[i] == read_png(inpainted / "images" / scene.cameras[i].name)).all()
+
+
+def test_direct_inpaints_the_object_region_of_the_input_images_and_completes_from_them(stages, tmp_path):
+    from engine.completion import CompleteConfig, run_complete
+
+    inpainted = stages["work"] / "direct-fsr"
+    run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="fsr", source="input",
+                              removed=str(stages["removed"]), out=str(inpainted)))
+    scene = load_scene(json.loads((stages["run"] / "config.json").read_text())["scene"])
+    for i, camera in enumerate(scene.cameras):
+        region = read_png(stages["removed"] / "masks" / camera.name, kind="mask") > 0
+        filled = read_png(inpainted / "images" / camera.name)
+        assert (filled[~region] == scene.images[i][~region]).all()
+        assert not region.any() or (filled[region] != scene.images[i][region]).any()
+    report = run_complete(CompleteConfig(run=str(stages["run"]), method="direct", inpainted=str(inpainted),
+                                         removed=str(stages["removed"]), out=str(tmp_path / "direct"), steps=300,
+                                         device="cpu"))
+    assert report["method"] == "Direct-fsr"
+    assert report["scores"]["m_psnr"] > report["removed_scores"]["m_psnr"]
