@@ -13,7 +13,11 @@ metrics of engine.scores on the test views beside the same metrics for the remov
 `direct` (the paper's Init-NanoBanana, made general): the same training on images whose whole object
 region was inpainted in the input images (`inpaint --source input`), with no removal step in between.
 
-Method names follow the paper: Init-<inpainter>, Direct-<inpainter> (FT-<inpainter>(3|All) comes next).
+`ft` (FT-<inpainter>(3) / FT-<inpainter>(All)): finetune the removed scene into the hole from the same
+training scene, the removed Gaussians frozen (engine.finetune).
+
+Method names follow the paper: Init-<inpainter>, Direct-<inpainter>, FT-<inpainter>(3|All); an FT run with
+the L1 perceptual term instead of LPIPS is named FT-<inpainter>(3)[l1].
 """
 
 from __future__ import annotations
@@ -28,17 +32,18 @@ from pathlib import Path
 import numpy as np
 
 from engine.errors import InputError
+from engine.finetune import finetune_setup
 from engine.image_io import read_png, write_png
 from engine.output_dir import atomic_output_dir, check_new_output
 from engine.progress import emit
 from engine.render_views import render_pictures
-from engine.scene import Scene
+from engine.scene import Scene, load_scene
 from engine.scores import ScoreConfig, Scores, score_views
 from engine.train_run import train
 from engine.trained_run import load_run
 from engine.training import pick_device
 
-METHODS = ("init", "direct")
+METHODS = ("init", "direct", "ft")
 
 
 @dataclass
@@ -46,10 +51,13 @@ class CompleteConfig:
     run: str = ""
     method: str = "init"
     inpainter: str = "fsr"
+    refs: int = 3  # ft: reference views, the training views with the largest holes (0 = all with a hole)
+    perceptual: str = "lpips"  # ft: the term on non-reference views (lpips | l1)
     inpainted: str = ""  # default RUN/inpainted/<inpainter>
     removed: str = ""  # default RUN/removed (its removal.json names the object; its renders are the baseline)
+    holes: str = ""  # ft: default RUN/holes
     out: str = ""  # default RUN/complete/<Name>
-    steps: int = 0  # 0: the training run's own
+    steps: int = 0  # 0: the training run's own (init, direct) or a tenth of it (ft)
     seed: int = 0
     device: str = "auto"
     lpips_backbone: str = ""  # see engine.scores.ScoreConfig
@@ -57,7 +65,9 @@ class CompleteConfig:
     fid_weights: str = ""
 
 
-def method_name(method: str, inpainter: str) -> str:
+def method_name(method: str, inpainter: str, refs: int = 3, perceptual: str = "lpips") -> str:
+    if method == "ft":
+        return f"FT-{inpainter}({refs or 'All'})" + ("" if perceptual == "lpips" else f"[{perceptual}]")
     return {"init": f"Init-{inpainter}", "direct": f"Direct-{inpainter}"}[method]
 
 
@@ -74,7 +84,7 @@ def run_complete(config: CompleteConfig) -> dict:
         if not path.is_dir():
             raise InputError(f"{path} missing: run `python -m engine {command} --run {root}` first")
     target = json.loads((removed / "removal.json").read_text()).get("object")
-    name = method_name(config.method, config.inpainter)
+    name = method_name(config.method, config.inpainter, config.refs, config.perceptual)
     out = Path(config.out) if config.out else root / "complete" / name
     check_new_output(out)
     start = time.perf_counter()
@@ -82,7 +92,14 @@ def run_complete(config: CompleteConfig) -> dict:
         _training_scene(original.scene, inpainted, target and target["id"], tmp)
     settings = dataclasses.replace(original.config, scene=str(out / "scene"), out=str(out / "run"), seed=config.seed,
                                    device=config.device, steps=config.steps or original.config.steps)
-    metrics = train(settings)
+    plugins = None
+    if config.method == "ft":
+        holes = Path(config.holes) if config.holes else root / "holes"
+        settings, plugins = finetune_setup(
+            settings, load_scene(out / "scene"), removed, inpainted, holes, config.refs, config.perceptual,
+            config.steps or max(original.config.steps // 10, 100), config.seed, pick_device(config.device),
+            (config.lpips_backbone, config.lpips_heads))
+    metrics = train(settings, plugins=plugins)
     seconds = time.perf_counter() - start
     scores = score_run(out / "run", _score_config(config))
     baseline = score_removed(original.scene, removed, _score_config(config))

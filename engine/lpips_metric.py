@@ -101,9 +101,13 @@ class Lpips(nn.Module):
                 out.append(self.lins[len(out)]((fa - fb) ** 2))
         return out
 
+    def distance(self, a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
+        """LPIPS with gradients (the finetuning loss); the network's own weights stay fixed."""
+        return sum(layer.mean(dim=(2, 3)) for layer in self._layers(a, b))[:, 0]
+
     @torch.no_grad()
     def forward(self, a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
-        return sum(layer.mean(dim=(2, 3)) for layer in self._layers(a, b))[:, 0]
+        return self.distance(a, b)
 
     @torch.no_grad()
     def map(self, a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:

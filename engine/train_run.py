@@ -68,15 +68,16 @@ def prepare_run(config: TrainConfig, resume: bool) -> TrainConfig:
     return config
 
 
-def train(config: TrainConfig, resume: bool = False) -> dict:
-    """Train a new run, or continue one from its newest checkpoint; returns its metrics."""
+def train(config: TrainConfig, resume: bool = False, plugins: dict | None = None) -> dict:
+    """Train a new run, or continue one from its newest checkpoint; returns its metrics. `plugins` are the
+    Trainer's completion plug-ins (start, frozen, objective, views); a resumed run needs the same ones."""
     config = prepare_run(config, resume)
     run = Path(config.out)
     scene = load_scene(config.scene)
     if not scene.train:
         raise InputError(f"{config.scene} has no training views: check split.json")
     device = pick_device(config.device)
-    trainer = Trainer(config, scene, device)
+    trainer = Trainer(config, scene, device, **(plugins or {}))
     source = latest_checkpoint(run) if resume else None
     if source is not None:
         trainer.load_state_dict(torch.load(source, map_location="cpu", weights_only=False))

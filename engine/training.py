@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 import random
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 import torch
@@ -71,11 +72,52 @@ class StepResult:
         return psnr_from_mse(float(((self.rgb.clamp(0, 1) - self.target) ** 2).mean()))
 
 
+class GroupingObjective:
+    """Gaussian Grouping's loss: 0.8 L1 + 0.2 (1 - SSIM), the identity cross-entropy over log C, every
+    reg3d_every steps the 3D regulariser, and with a budget MCMC's opacity and scale regularisers."""
+
+    needs_depth = False
+
+    def __call__(self, trainer: Trainer, view: int, out, target: torch.Tensor) -> torch.Tensor:
+        cfg = trainer.config
+        loss = (1 - cfg.ssim_weight) * (out.rgb - target).abs().mean() + cfg.ssim_weight * (1 - ssim(out.rgb, target))
+        return loss + grouping_terms(trainer, view, out)
+
+
+def grouping_terms(trainer: Trainer, view: int, out) -> torch.Tensor | float:
+    """The identity and regulariser terms every objective keeps."""
+    cfg, step, loss = trainer.config, trainer.step_index, 0.0
+    if trainer.masks is not None:
+        classes = out.logits.shape[-1]
+        loss = loss + cfg.identity_weight * pixel_cross_entropy(out.logits, trainer.masks[view]) / math.log(classes)
+        if cfg.reg3d_every > 0 and step % cfg.reg3d_every == 0:
+            loss = loss + trainer.regularizer.loss(trainer.params["identity"], trainer.classifier,
+                                                   trainer.params["means"], step, trainer.generator)
+    if trainer.budget:
+        loss = (loss + cfg.mcmc_opacity_reg * torch.sigmoid(trainer.params["opacities"]).mean()
+                + cfg.mcmc_scale_reg * torch.exp(trainer.params["scales"]).mean())
+    return loss
+
+
+class Objective(Protocol):
+    needs_depth: bool
+
+    def __call__(self, trainer: Trainer, view: int, out, target: torch.Tensor) -> torch.Tensor: ...
+
+
 class Trainer:
     """Holds the parameters, optimizers and strategy state of one run; `step()` advances it by one view."""
 
-    def __init__(self, config: TrainConfig, scene: Scene, device: torch.device) -> None:
+    def __init__(self, config: TrainConfig, scene: Scene, device: torch.device, start: Gaussians | None = None,
+                 frozen: int = 0, objective: Objective | None = None, views: list[int] | None = None) -> None:
+        """`start`: Gaussians to begin from instead of the sparse points, of which the first `frozen` never
+        change (their gradients are zeroed before every optimizer step, so Adam's moments stay zero and the
+        update is exactly zero). `objective` replaces Gaussian Grouping's loss; `views` restricts the
+        training views that are drawn. These are the completion methods' plug-ins (engine.finetune)."""
         self.config, self.scene, self.device = config, scene, device
+        self.start, self.frozen = start, frozen
+        self.objective = objective or GroupingObjective()
+        self.train_views = views if views is not None else scene.train
         self.budget = config.max_gaussians > 0
         if self.budget and device.type != "cuda":
             from engine.gsplat_cpu import enable_cpu_mcmc
@@ -106,6 +148,8 @@ class Trainer:
 
     def _init_params(self) -> torch.nn.ParameterDict:
         cfg = self.config
+        if self.start is not None:
+            return self._parameters(self.start)
         points, colors = self.scene.points, self.scene.colors
         if self.budget and len(points) > cfg.max_gaussians:  # MCMC never removes: start within the cap
             keep = np.random.default_rng(cfg.seed).choice(len(points), cfg.max_gaussians, replace=False)
@@ -133,7 +177,7 @@ class Trainer:
 
     def _next_view(self) -> int:
         if not self.order:
-            self.order = [int(i) for i in self.views.permutation(self.scene.train)]
+            self.order = [int(i) for i in self.views.permutation(self.train_views)]
         return self.order.pop()
 
     def _means_lr(self, step: int) -> float:
@@ -142,25 +186,21 @@ class Trainer:
 
     def step(self) -> StepResult:
         """One training step on one training view."""
-        cfg, step = self.config, self.step_index
+        step = self.step_index
         lr = self._means_lr(step)
         self.optimizers["means"].param_groups[0]["lr"] = lr
         view = self._next_view()
         classifier = self.classifier if self.masks is not None else None
-        out = render(self.params, self.cameras[view], self.sh_degree, classifier=classifier, depth=False)
+        out = render(self.params, self.cameras[view], self.sh_degree, classifier=classifier,
+                     depth=self.objective.needs_depth)
         target = self.images[view].float() / 255.0
-        loss = (1 - cfg.ssim_weight) * (out.rgb - target).abs().mean() + cfg.ssim_weight * (1 - ssim(out.rgb, target))
-        if self.masks is not None:
-            classes = out.logits.shape[-1]
-            loss = loss + cfg.identity_weight * pixel_cross_entropy(out.logits, self.masks[view]) / math.log(classes)
-            if cfg.reg3d_every > 0 and step % cfg.reg3d_every == 0:
-                loss = loss + self.regularizer.loss(self.params["identity"], self.classifier, self.params["means"],
-                                                    step, self.generator)
-        if self.budget:
-            loss = (loss + cfg.mcmc_opacity_reg * torch.sigmoid(self.params["opacities"]).mean()
-                    + cfg.mcmc_scale_reg * torch.exp(self.params["scales"]).mean())
+        loss = self.objective(self, view, out, target)
         self.strategy.step_pre_backward(self.params, self.optimizers, self.strategy_state, step, out.info)
         loss.backward()
+        if self.frozen:
+            for param in self.params.values():
+                if param.grad is not None:
+                    param.grad[: self.frozen] = 0
         for optimizer in (*self.optimizers.values(), self.classifier_opt):
             optimizer.step()
             optimizer.zero_grad(set_to_none=True)

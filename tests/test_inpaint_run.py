@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import torch
 
 from engine.holes import HoleConfig, run_holes
 from engine.image_io import exr_name, read_depth, read_png
@@ -106,3 +107,62 @@ def test_direct_inpaints_the_object_region_of_the_input_images_and_completes_fro
                                          device="cpu"))
     assert report["method"] == "Direct-fsr"
     assert report["scores"]["m_psnr"] > report["removed_scores"]["m_psnr"]
+
+
+def fsr_for_ft(stages) -> Path:
+    inpainted = stages["work"] / "fsr-for-ft"
+    if not inpainted.exists():
+        run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="fsr", removed=str(stages["removed"]),
+                                  holes=str(stages["holes"]), out=str(inpainted), dilate=1))
+    return inpainted
+
+
+@pytest.mark.parametrize("refs, perceptual", [(3, "l1"), (0, "lpips")])
+def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_path, refs, perceptual):
+    """FT(3) with the L1 perceptual term, and FT(All) with LPIPS on tiny random weights made here."""
+    from test_metrics import save_tiny_lpips_weights
+
+    from engine.completion import CompleteConfig, run_complete
+    from engine.ply_io import load_ply
+
+    inpainted = fsr_for_ft(stages)
+    backbone, heads = save_tiny_lpips_weights(tmp_path)
+    out = tmp_path / "ft"
+    report = run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainted=str(inpainted),
+                                         removed=str(stages["removed"]), holes=str(stages["holes"]), out=str(out),
+                                         refs=refs, perceptual=perceptual, steps=150, device="cpu",
+                                         lpips_backbone=str(backbone), lpips_heads=str(heads)))
+    assert report["method"] == {3: "FT-fsr(3)[l1]", 0: "FT-fsr(All)"}[refs]
+    before = load_ply(stages["removed"] / "point_cloud.ply")
+    after = load_ply(out / "run" / "point_cloud.ply")
+    n = len(before["means"])
+    assert len(after["means"]) > n  # new Gaussians in the hole
+    for key, value in before.items():  # the published code's freeze fails; ours holds bit for bit
+        assert torch.equal(after[key][:n], value), key
+    # it fits its objective: inside the holes of the training views the render moved toward the inpainted
+    # images. (The tiny run's one test view barely changes: 19.83 vs 19.86 dB m-PSNR; see the closing note.)
+    from engine.render_views import render_pictures
+    from engine.trained_run import load_run
+
+    run = load_run(out / "run")
+    views = [i for i in run.scene.train if (read_png(stages["holes"] / run.scene.cameras[i].name) > 0).any()]
+    cameras = [run.scene.cameras[i] for i in views]
+    errors = {"ft": [], "removed": []}
+    for camera, picture in zip(cameras, render_pictures(run.gaussians, cameras, run.sh_degree, "cpu"), strict=True):
+        hole = read_png(stages["holes"] / camera.name) > 0
+        target = read_png(inpainted / "images" / camera.name)[hole].astype(float)
+        errors["ft"].append(np.abs(picture.rgb[hole] - target).mean())
+        errors["removed"].append(np.abs(read_png(stages["removed"] / "images" / camera.name)[hole] - target).mean())
+    assert np.mean(errors["ft"]) < np.mean(errors["removed"])
+
+
+def test_finetune_without_lpips_weights_says_how_to_go_on(stages, tmp_path, monkeypatch):
+    from engine.completion import CompleteConfig, run_complete
+    from engine.errors import InputError
+
+    monkeypatch.delenv("LPIPS_BACKBONE", raising=False)
+    monkeypatch.setenv("TORCH_HOME", str(tmp_path))
+    with pytest.raises(InputError, match="--perceptual l1"):
+        run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainted=str(fsr_for_ft(stages)),
+                                    removed=str(stages["removed"]), holes=str(stages["holes"]),
+                                    out=str(tmp_path / "ft"), device="cpu"))
