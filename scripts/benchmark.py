@@ -1,0 +1,229 @@
+"""The benchmark matrix: scene x method x inpainter x seed, through the engine, resumable, with tables.
+
+    blender -b -P scripts/benchmark.py -- --scenes DIR... --methods init ft3 --inpainters fsr --seeds 0 1 --out DIR
+    python scripts/benchmark.py --scenes DIR... ...          # the same with any Python (no torch needed here)
+
+Per scene and seed the shared stages run once (train, remove the scene's target, holes, inpaint per
+inpainter, and the direct 2D step for `direct`), then each method completes the scene in a cell of its own:
+OUT/work/<scene>/seed<k>/run/complete/<Name>/ with scores.json. Every stage skips work already on disk,
+so a run that was interrupted continues where it stopped, and a finished cell is never run again. A cell
+that fails is recorded with its one-line reason and the others go on.
+
+Writes OUT/results.json and results.csv (one row per cell), and OUT/tables.md: per scene and averaged over
+scenes, the paper's columns (mean over seeds; best in bold), with the removed-but-unfilled scene as the
+first row. Methods: init, direct, ft3, ftall. Run time of a method: the stages it needs (Init and FT:
+train + remove + holes + inpaint + complete; Direct: its inpainting + complete).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import shutil
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from blender_entry import add_repo_to_path, script_args  # noqa: E402
+
+add_repo_to_path()
+from addon.engine_call import EngineError, run_engine  # noqa: E402
+
+METHODS = {"init": ("init", 3), "direct": ("direct", 3), "ft3": ("ft", 3), "ftall": ("ft", 0)}
+COLUMNS = [("psnr", "PSNR", max), ("m_psnr", "m-PSNR", max), ("ssim", "SSIM", max), ("m_ssim", "m-SSIM", max),
+           ("lpips", "LPIPS", min), ("m_lpips", "m-LPIPS", min), ("fid", "FID", min), ("m_fid", "m-FID", min),
+           ("kid", "KID", min), ("m_kid", "m-KID", min), ("seconds", "Run time (s)", min),
+           ("gaussians", "Gaussians", None)]
+
+
+def method_name(method: str, inpainter: str, perceptual: str) -> str:
+    kind, refs = METHODS[method]
+    if kind == "ft":
+        return f"FT-{inpainter}({refs or 'All'})" + ("" if perceptual == "lpips" else f"[{perceptual}]")
+    return f"{kind.capitalize()}-{inpainter}"
+
+
+class Stages:
+    """The shared stages of one scene and seed, each run once and timed; times persist in stage_times.json."""
+
+    def __init__(self, scene: Path, seed: int, work: Path, args: argparse.Namespace) -> None:
+        self.scene, self.seed, self.args = scene, seed, args
+        self.root = work / scene.name / f"seed{seed}"
+        self.run = self.root / "run"
+        self.times_file = self.root / "stage_times.json"
+        self.times = json.loads(self.times_file.read_text()) if self.times_file.is_file() else {}
+
+    def stage(self, key: str, done: Path, args: list[str]) -> None:
+        if done.exists():
+            return
+        start = time.perf_counter()
+        run_engine(args)
+        self.times[key] = round(time.perf_counter() - start, 1)
+        self.root.mkdir(parents=True, exist_ok=True)
+        self.times_file.write_text(json.dumps(self.times, indent=1))
+
+    def train(self) -> None:
+        a = self.args
+        resume = ["--resume"] if (self.run / "config.json").is_file() else []
+        options = ["--preset", a.preset, "--max-gaussians", str(a.max_gaussians), "--device", a.device]
+        options += ["--steps", str(a.steps)] if a.steps else []
+        self.stage("train", self.run / "point_cloud.ply", ["train", "--scene", str(self.scene), "--out",
+                                                           str(self.run), "--seed", str(self.seed), *options, *resume])
+
+    def prepare(self, inpainter: str, direct: bool) -> None:
+        device = ["--device", self.args.device]
+        self.train()
+        target = _target(self.scene)
+        self.stage("remove", self.run / "removed", ["remove", "--run", str(self.run), "--object", target, *device])
+        self.stage("holes", self.run / "holes", ["holes", "--run", str(self.run), *device])
+        dilate = ["--dilate", str(self.args.dilate)]
+        if direct:
+            self.stage(f"inpaint-direct-{inpainter}", self.run / "inpainted" / f"direct-{inpainter}",
+                       ["inpaint", "--run", str(self.run), "--inpainter", inpainter, "--source", "input", *dilate])
+        else:
+            self.stage(f"inpaint-{inpainter}", self.run / "inpainted" / inpainter,
+                       ["inpaint", "--run", str(self.run), "--inpainter", inpainter, *dilate])
+
+    def seconds(self, method: str, inpainter: str, complete: float) -> float:
+        if method == "direct":
+            return self.times.get(f"inpaint-direct-{inpainter}", 0) + complete
+        shared = ("train", "remove", "holes", f"inpaint-{inpainter}")
+        return sum(self.times.get(k, 0) for k in shared) + complete
+
+
+def _target(scene: Path) -> str:
+    objects = json.loads((scene / "masks" / "objects.json").read_text())
+    targets = [o["name"] for o in objects if o.get("target")]
+    if not targets:
+        raise EngineError(f"{scene}/masks/objects.json marks no target object")
+    return targets[0]
+
+
+def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespace) -> dict:
+    name = method_name(method, inpainter, args.perceptual)
+    cell = {"scene": stages.scene.name, "seed": stages.seed, "inpainter": inpainter, "method": name}
+    out = stages.run / "complete" / name
+    try:
+        if not (out / "scores.json").is_file():
+            stages.prepare(inpainter, direct=method == "direct")
+            shutil.rmtree(out, ignore_errors=True)  # an interrupted cell starts again
+            kind, refs = METHODS[method]
+            options = ["--method", kind, "--inpainter", inpainter, "--seed", str(stages.seed), "--device",
+                       args.device, "--refs", str(refs), "--perceptual", args.perceptual]
+            options += ["--steps", str(args.complete_steps)] if args.complete_steps else []
+            run_engine(["complete", "--run", str(stages.run), "--out", str(out), *options])
+        report = json.loads((out / "scores.json").read_text())
+    except EngineError as exc:
+        return {**cell, "status": "failed", "reason": str(exc)}
+    return {**cell, "status": "done", **report["scores"], "gaussians": report["gaussians"],
+            "seconds": round(stages.seconds(method, inpainter, report["seconds"]), 1),
+            "removed_scores": report["removed_scores"], "unavailable": report["unavailable"]}
+
+
+def _fmt(value, key: str) -> str:
+    if value is None:
+        return "n/a"
+    if key == "gaussians":
+        return f"{int(value):,}"
+    return f"{value:.4f}" if key in ("ssim", "m_ssim", "lpips", "m_lpips", "kid", "m_kid") else f"{value:.2f}"
+
+
+def _table(rows: dict[str, dict[str, float | None]]) -> list[str]:
+    lines = ["| Method | " + " | ".join(label for _, label, _ in COLUMNS) + " |",
+             "|---" * (len(COLUMNS) + 1) + "|"]
+    best = {}
+    for key, _, pick in COLUMNS:
+        values = [r[key] for name, r in rows.items() if r.get(key) is not None and name != "Removed (unfilled)"]
+        best[key] = pick(values) if pick and values else None
+    for name, r in rows.items():
+        cells = [(f"**{_fmt(r.get(key), key)}**" if best[key] is not None and r.get(key) == best[key]
+                  else _fmt(r.get(key), key)) for key, _, _ in COLUMNS]
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def _mean(values: list) -> float | None:
+    kept = [v for v in values if v is not None]
+    return sum(kept) / len(kept) if kept else None
+
+
+def summarise(cells: list[dict]) -> dict[str, dict[str, dict]]:
+    """Per scene (and 'all'), per method: each column's mean over seeds (and scenes, for 'all')."""
+    done = [c for c in cells if c["status"] == "done"]
+    scenes = sorted({c["scene"] for c in done})
+    out: dict[str, dict[str, dict]] = {}
+    for scene in [*scenes, "all"]:
+        chosen = [c for c in done if scene == "all" or c["scene"] == scene]
+        rows = {"Removed (unfilled)": {k: _mean([c["removed_scores"].get(k) for c in chosen])
+                                       for k, _, _ in COLUMNS if k not in ("seconds", "gaussians")}}
+        for name in sorted({c["method"] for c in chosen}):
+            mine = [c for c in chosen if c["method"] == name]
+            rows[name] = {k: _mean([c.get(k) for c in mine]) for k, _, _ in COLUMNS}
+        out[scene] = rows
+    return out
+
+
+def write_results(cells: list[dict], out: Path) -> None:
+    (out / "results.json").write_text(json.dumps(cells, indent=1))
+    keys = ["scene", "seed", "inpainter", "method", "status", "reason"] + [k for k, _, _ in COLUMNS]
+    with open(out / "results.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
+        writer.writeheader()
+        writer.writerows(cells)
+    lines = ["# Benchmark results", ""]
+    for scene, rows in summarise(cells).items():
+        title = "Averaged over scenes" if scene == "all" else f"Scene: {scene}"
+        lines += [f"## {title}", "", *_table(rows), ""]
+    failed = [c for c in cells if c["status"] == "failed"]
+    if failed:
+        lines += ["## Failed cells", ""] + [f"- {c['scene']} seed {c['seed']} {c['method']}: {c['reason']}"
+                                            for c in failed] + [""]
+    reasons: dict[str, set[str]] = {}
+    for c in cells:
+        for key, reason in (c.get("unavailable") or {}).items():
+            reasons.setdefault(reason, set()).add(key)
+    if reasons:
+        lines += ["n/a columns:", ""] + [f"- {', '.join(sorted(keys))}: {reason}" for reason, keys in
+                                         sorted(reasons.items())] + [""]
+    (out / "tables.md").write_text("\n".join(lines))
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--scenes", nargs="+", required=True)
+    parser.add_argument("--methods", nargs="+", default=["init", "ft3", "ftall", "direct"], choices=list(METHODS))
+    parser.add_argument("--inpainters", nargs="+", default=["fsr", "telea"])
+    parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1])
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--preset", default="default")
+    parser.add_argument("--steps", type=int, default=0, help="training steps of the base runs (0: the preset's)")
+    parser.add_argument("--complete-steps", type=int, default=0, help="steps of each completion (0: its default)")
+    parser.add_argument("--max-gaussians", type=int, default=100_000)
+    parser.add_argument("--dilate", type=int, default=4, help="px added to the masks before inpainting")
+    parser.add_argument("--perceptual", default="lpips", help="FT's perceptual term (lpips | l1)")
+    parser.add_argument("--device", default="auto")
+    args = parser.parse_args(script_args(argv))
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    matrix = [(Path(s), seed, inp, m) for s in args.scenes for seed in args.seeds for inp in args.inpainters
+              for m in args.methods]
+    cells = []
+    for k, (scene, seed, inpainter, method) in enumerate(matrix, 1):
+        stages = Stages(scene, seed, out / "work", args)
+        start = time.perf_counter()
+        cell = run_cell(stages, method, inpainter, args)
+        cells.append(cell)
+        write_results(cells, out)
+        bar = "#" * round(20 * k / len(matrix))
+        detail = (f"m-PSNR {_fmt(cell['m_psnr'], 'm_psnr')} dB, {cell['seconds']} s" if cell["status"] == "done"
+                  else f"FAILED: {cell['reason']}")
+        print(f"[{bar:<20}] {k}/{len(matrix)} {scene.name} seed {seed} {cell['method']}: {detail} "
+              f"({time.perf_counter() - start:.0f} s here)", flush=True)
+    print(f"tables: {out / 'tables.md'}  results: {out / 'results.csv'}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

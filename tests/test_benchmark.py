@@ -1,0 +1,37 @@
+"""The benchmark matrix on the tiny scene: cells run, a failing cell is recorded, a resumed run repeats nothing."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+def benchmark(scene: Path, out: Path) -> subprocess.CompletedProcess:
+    args = [sys.executable, str(REPO / "scripts" / "benchmark.py"), "--scenes", str(scene), "--methods", "init",
+            "ft3", "--inpainters", "fsr", "lama", "--seeds", "0", "--out", str(out), "--preset", "tiny", "--steps",
+            "200", "--complete-steps", "100", "--max-gaussians", "0", "--dilate", "1", "--perceptual", "l1",
+            "--device", "cpu"]
+    env = {"PATH": "/usr/bin:/bin", "SPLATFILL_ENGINE_PYTHON": sys.executable, "HOME": str(out)}
+    return subprocess.run(args, capture_output=True, text=True, env=env, cwd=REPO, timeout=900)
+
+
+def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_scene: Path, tmp_path: Path):
+    first = benchmark(living_scene, tmp_path)
+    assert first.returncode == 0, first.stderr[-2000:]
+    cells = json.loads((tmp_path / "results.json").read_text())
+    assert [(c["method"], c["status"]) for c in cells] == [
+        ("Init-fsr", "done"), ("FT-fsr(3)[l1]", "done"), ("Init-lama", "failed"), ("FT-lama(3)[l1]", "failed")]
+    assert "LAMA_MODEL" in cells[2]["reason"]  # no weights: recorded, and the matrix went on
+    table = (tmp_path / "tables.md").read_text()
+    assert "| Removed (unfilled) |" in table and "| Init-fsr |" in table and "**" in table
+    assert "Failed cells" in table and "LAMA_MODEL" in table
+    times = (tmp_path / "work" / living_scene.name / "seed0" / "stage_times.json").read_text()
+    second = benchmark(living_scene, tmp_path)  # resumed: finished cells and stages are not run again
+    assert second.returncode == 0, second.stderr[-2000:]
+    assert (tmp_path / "tables.md").read_text() == table
+    assert (tmp_path / "work" / living_scene.name / "seed0" / "stage_times.json").read_text() == times
+    assert "2/4" in second.stdout and "tables:" in second.stdout
