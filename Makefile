@@ -34,7 +34,8 @@ setup: .venv/.ready .venv-blender/.ready
 	touch $@
 
 # The main job, end to end on a generated scene: generate -> train (Gaussian Grouping) -> remove the target
-# -> hole masks -> inpaint (fsr, offline) -> complete (Init-fsr) and score. Small sizes, a few minutes on a CPU;
+# -> hole masks -> inpaint (fsr, offline) -> complete (Init-fsr, FT-fsr(3) with the L1 perceptual term, as no
+# LPIPS weights ship) and score. Small sizes, a few minutes on a CPU;
 # DEMO_RES, DEMO_VIEWS and DEMO_STEPS scale it up (a GPU is used when there is one).
 DEMO_RES ?= 128
 DEMO_VIEWS ?= 16
@@ -48,9 +49,10 @@ demo: .venv/.ready $(BLENDER_ENV)
 	$(ENGINE) -m engine holes --run $(DEMO)/run
 	$(ENGINE) -m engine inpaint --run $(DEMO)/run --inpainter fsr --dilate 2
 	$(ENGINE) -m engine complete --run $(DEMO)/run --method init --inpainter fsr
+	$(ENGINE) -m engine complete --run $(DEMO)/run --method ft --refs 3 --inpainter fsr --perceptual l1
 	@echo "scene: $(DEMO)/scene  run: $(DEMO)/run  pictures: $(DEMO)/preview.png, $(DEMO)/run/removed/sheet.png,"
 	@echo "  $(DEMO)/run/holes/sheet.png, $(DEMO)/run/inpainted/fsr/sheet_test.png"
-	@echo "scores: $(DEMO)/run/complete/Init-fsr/scores.json"
+	@echo "scores: $(DEMO)/run/complete/Init-fsr/scores.json, $(DEMO)/run/complete/FT-fsr(3)[l1]/scores.json"
 
 test: .venv/.ready .venv-blender/.ready lint
 	$(ENGINE) -m pytest tests
