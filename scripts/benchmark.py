@@ -11,8 +11,9 @@ that fails is recorded with its one-line reason and the others go on.
 
 Writes OUT/results.json and results.csv (one row per cell), and OUT/tables.md: per scene and averaged over
 scenes, the paper's columns (mean over seeds; best in bold), with the removed-but-unfilled scene as the
-first row. Methods: init, direct, ft3, ftall. Run time of a method: the stages it needs (Init and FT:
-train + remove + holes + inpaint + complete; Direct: its inpainting + complete).
+first row; OUT/stability.md and OUT/speed_accuracy.svg (scripts/benchmark_report.py). Methods: init,
+direct, ft3, ftall. Run time of a method: the stages it needs (Init and FT: train + remove + holes +
+inpaint + complete; Direct: its inpainting + complete).
 """
 
 from __future__ import annotations
@@ -29,6 +30,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from blender_entry import add_repo_to_path, script_args  # noqa: E402
 
 add_repo_to_path()
+from benchmark_report import write_reports  # noqa: E402
+
 from addon.engine_call import EngineError, run_engine  # noqa: E402
 
 METHODS = {"init": ("init", 3), "direct": ("direct", 3), "ft3": ("ft", 3), "ftall": ("ft", 0)}
@@ -188,6 +191,7 @@ def write_results(cells: list[dict], out: Path) -> None:
         lines += ["n/a columns:", ""] + [f"- {', '.join(sorted(keys))}: {reason}" for reason, keys in
                                          sorted(reasons.items())] + [""]
     (out / "tables.md").write_text("\n".join(lines))
+    write_reports(cells, out)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -29,6 +29,10 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     table = (tmp_path / "tables.md").read_text()
     assert "| Removed (unfilled) |" in table and "| Init-fsr |" in table and "**" in table
     assert "Failed cells" in table and "LAMA_MODEL" in table
+    stability = (tmp_path / "stability.md").read_text()
+    assert "| Init-fsr | 1/1 |" in stability and "| Init-lama | 0/1 |" in stability and "LAMA_MODEL" in stability
+    svg = (tmp_path / "speed_accuracy.svg").read_text()
+    assert svg.startswith("<svg") and svg.count("<circle") == 4  # 2 methods that finished x 2 panels
     times = (tmp_path / "work" / living_scene.name / "seed0" / "stage_times.json").read_text()
     second = benchmark(living_scene, tmp_path)  # resumed: finished cells and stages are not run again
     assert second.returncode == 0, second.stderr[-2000:]
