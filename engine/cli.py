@@ -80,6 +80,18 @@ def _complete(args: argparse.Namespace) -> None:
           file=sys.stderr)
 
 
+def _compare(args: argparse.Namespace) -> None:
+    from engine.compare_sheet import compare_sheet
+
+    columns = []
+    for column in args.columns:
+        name, sep, folder = column.partition("=")
+        if not sep:
+            raise InputError(f"column {column!r} must read LABEL=DIR")
+        columns.append((name, Path(folder)))
+    print(f"wrote {compare_sheet(columns, args.views, Path(args.out))}", file=sys.stderr)
+
+
 def _version(args: argparse.Namespace) -> None:
     import torch
 
@@ -133,6 +145,11 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("complete", help="complete the scene from the inpainted views (init) and score it")
     add_config_arguments(p, CompleteConfig, required=("run",))
     p.set_defaults(handler=_complete)
+    p = sub.add_parser("compare", help="side-by-side picture: a row per view, a column per folder of renders")
+    p.add_argument("--columns", nargs="+", required=True, help="LABEL=DIR, in order")
+    p.add_argument("--views", nargs="+", required=True, help="file names present in the folders")
+    p.add_argument("--out", required=True, help="PNG to write")
+    p.set_defaults(handler=_compare)
     p = sub.add_parser("version", help="engine, torch and CUDA versions (the add-on's health check)")
     p.set_defaults(handler=_version)
     return parser

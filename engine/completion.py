@@ -7,7 +7,8 @@ split.json as they were,
 images/ the inpainted training views (test views: the ground truth when the scene has it, so the
 training run's own test PSNR means something; they are never trained on), masks/ with the removed object's
 id turned into background, and gt/ and holes/ for scoring. Then RUN/complete/<Name>/run is an ordinary
-training run (resumable like any other), and scores.json, written last and atomically, holds the
+training run (resumable like any other), renders/ holds its test views, and scores.json, written last
+and atomically, holds the
 metrics of engine.scores on the test views beside the same metrics for the removed-but-unfilled scene.
 
 `direct` (the paper's Init-NanoBanana, made general): the same training on images whose whole object
@@ -101,7 +102,7 @@ def run_complete(config: CompleteConfig) -> dict:
             (config.lpips_backbone, config.lpips_heads))
     metrics = train(settings, plugins=plugins)
     seconds = time.perf_counter() - start
-    scores = score_run(out / "run", _score_config(config))
+    scores = score_run(out / "run", _score_config(config), renders=out / "renders")
     baseline = score_removed(original.scene, removed, _score_config(config))
     report = {"method": name, "config": dataclasses.asdict(config), "seconds": round(seconds, 1),
               "gaussians": metrics["gaussians"], "scores": scores.values, "unavailable": scores.unavailable,
@@ -150,13 +151,17 @@ def _test_sets(scene: Scene) -> tuple[list[int], list[np.ndarray], list[np.ndarr
     return views, [scene.gt_images[i] for i in views], [scene.holes[i] for i in views]
 
 
-def score_run(run_dir: Path, config: ScoreConfig) -> Scores:
-    """Scores of a trained run's test renders against its scene's gt/, masked by holes/."""
+def score_run(run_dir: Path, config: ScoreConfig, renders: Path | None = None) -> Scores:
+    """Scores of a trained run's test renders against its scene's gt/, masked by holes/; the renders are
+    saved under `renders` when given (the benchmark's side-by-side pictures read them)."""
     run = load_run(run_dir)
     views, truths, holes = _test_sets(run.scene)
-    pictures = render_pictures(run.gaussians, [run.scene.cameras[i] for i in views], run.sh_degree,
-                               pick_device(config.device))
-    return score_views([p.rgb for p in pictures], truths, holes, config)
+    pictures = [p.rgb for p in render_pictures(run.gaussians, [run.scene.cameras[i] for i in views],
+                                               run.sh_degree, pick_device(config.device))]
+    if renders is not None:
+        for i, rgb in zip(views, pictures, strict=True):
+            write_png(renders / run.scene.cameras[i].name, rgb)
+    return score_views(pictures, truths, holes, config)
 
 
 def score_removed(scene: Scene, removed: Path, config: ScoreConfig) -> Scores:

@@ -11,7 +11,8 @@ that fails is recorded with its one-line reason and the others go on.
 
 Writes OUT/results.json and results.csv (one row per cell), and OUT/tables.md: per scene and averaged over
 scenes, the paper's columns (mean over seeds; best in bold), with the removed-but-unfilled scene as the
-first row; OUT/stability.md and OUT/speed_accuracy.svg (scripts/benchmark_report.py). Methods: init,
+first row; OUT/stability.md and OUT/speed_accuracy.svg (scripts/benchmark_report.py); OUT/pictures/
+<scene>.png, the first seed's test views side by side (GT, then each method). Methods: init,
 direct, ft3, ftall. Run time of a method: the stages it needs (Init and FT: train + remove + holes +
 inpaint + complete; Direct: its inpainting + complete).
 """
@@ -121,6 +122,7 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
     except EngineError as exc:
         return {**cell, "status": "failed", "reason": str(exc)}
     return {**cell, "status": "done", **report["scores"], "gaussians": report["gaussians"],
+            "scene_dir": str(stages.scene), "renders": str(out / "renders"),
             "seconds": round(stages.seconds(method, inpainter, report["seconds"]), 1),
             "removed_scores": report["removed_scores"], "unavailable": report["unavailable"]}
 
@@ -194,6 +196,22 @@ def write_results(cells: list[dict], out: Path) -> None:
     write_reports(cells, out)
 
 
+def pictures(cells: list[dict], out: Path, seed: int, views: int = 4) -> None:
+    """Per scene, the first seed's test views side by side: ground truth, then each finished method."""
+    for scene in sorted({c["scene"] for c in cells}):
+        done = [c for c in cells if c["scene"] == scene and c["seed"] == seed and c["status"] == "done"]
+        if not done:
+            continue
+        scene_dir = Path(done[0]["scene_dir"])
+        folders = [(c["method"], Path(c["renders"])) for c in done]
+        names = sorted(p.name for p in folders[0][1].glob("*.png"))[:views]
+        try:
+            run_engine(["compare", "--out", str(out / "pictures" / f"{scene}.png"), "--views", *names,
+                        "--columns", f"GT={scene_dir / 'gt'}", *(f"{m}={f}" for m, f in folders)])
+        except EngineError as exc:
+            print(f"no picture for {scene}: {exc}", flush=True)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--scenes", nargs="+", required=True)
@@ -225,7 +243,8 @@ def main(argv: list[str] | None = None) -> int:
                   else f"FAILED: {cell['reason']}")
         print(f"[{bar:<20}] {k}/{len(matrix)} {scene.name} seed {seed} {cell['method']}: {detail} "
               f"({time.perf_counter() - start:.0f} s here)", flush=True)
-    print(f"tables: {out / 'tables.md'}  results: {out / 'results.csv'}", flush=True)
+    pictures(cells, out, args.seeds[0])
+    print(f"tables: {out / 'tables.md'}  results: {out / 'results.csv'}  pictures: {out / 'pictures'}", flush=True)
     return 0
 
 

@@ -7,6 +7,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from engine.image_io import read_png
+
 REPO = Path(__file__).resolve().parent.parent
 
 
@@ -33,6 +35,8 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     assert "| Init-fsr | 1/1 |" in stability and "| Init-lama | 0/1 |" in stability and "LAMA_MODEL" in stability
     svg = (tmp_path / "speed_accuracy.svg").read_text()
     assert svg.startswith("<svg") and svg.count("<circle") == 4  # 2 methods that finished x 2 panels
+    picture = read_png(tmp_path / "pictures" / f"{living_scene.name}.png")
+    assert picture.shape[1] == 3 * 96  # GT, Init-fsr, FT-fsr(3)[l1] for the tiny scene's 96 px wide views
     times = (tmp_path / "work" / living_scene.name / "seed0" / "stage_times.json").read_text()
     second = benchmark(living_scene, tmp_path)  # resumed: finished cells and stages are not run again
     assert second.returncode == 0, second.stderr[-2000:]

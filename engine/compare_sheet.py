@@ -1,0 +1,34 @@
+"""Side-by-side pictures: one row per view, one labelled column per folder of same-named PNGs.
+
+The benchmark's per-scene picture (ground truth, then each method's render of the same test view) is
+one of these; any folders of renders with the same file names can be compared the same way.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from engine.errors import InputError
+from engine.image_io import read_png, write_png
+from engine.preview import label
+
+
+def compare_sheet(columns: list[tuple[str, Path]], views: list[str], out: Path) -> Path:
+    """Write the sheet to `out`; a view missing from a column is drawn black with 'missing'."""
+    if not columns or not views:
+        raise InputError("compare needs at least one column LABEL=DIR and one view")
+    for _, folder in columns:
+        if not folder.is_dir():
+            raise InputError(f"{folder} is not a folder of renders")
+    rows = []
+    for view in views:
+        first = next((read_png(f / view) for _, f in columns if (f / view).is_file()), None)
+        if first is None:
+            raise InputError(f"view {view} is in none of the columns' folders")
+        cells = [label(read_png(f / view), f"{view} {name}") if (f / view).is_file()
+                 else label(np.zeros_like(first), f"{name}: missing") for name, f in columns]
+        rows.append(np.concatenate(cells, axis=1))
+    write_png(out, np.concatenate(rows, axis=0))
+    return out
