@@ -126,25 +126,20 @@ def build_parser() -> argparse.ArgumentParser:
     add_config_arguments(p)
     p.add_argument("--resume", action="store_true", help="continue the run in --out from its newest checkpoint")
     p.set_defaults(handler=_train)
+    from engine.completion import CompleteConfig
     from engine.holes import HoleConfig
+    from engine.inpaint_run import InpaintConfig
     from engine.removal import RemovalConfig
 
-    p = sub.add_parser("remove", help="delete an object's Gaussians (by id/name or a 3D box) and render the rest")
-    add_config_arguments(p, RemovalConfig, required=("run",))
-    p.set_defaults(handler=_remove)
-    p = sub.add_parser("holes", help="depth-guided hole masks: object pixels whose background no view saw")
-    add_config_arguments(p, HoleConfig, required=("run",))
-    p.set_defaults(handler=_holes)
-    from engine.inpaint_run import InpaintConfig
-
-    p = sub.add_parser("inpaint", help="fill the hole masks of the removed renders (RGB and depth) in 2D")
-    add_config_arguments(p, InpaintConfig, required=("run",))
-    p.set_defaults(handler=_inpaint)
-    from engine.completion import CompleteConfig
-
-    p = sub.add_parser("complete", help="complete the scene from the inpainted views (init) and score it")
-    add_config_arguments(p, CompleteConfig, required=("run",))
-    p.set_defaults(handler=_complete)
+    for name, cls, handler, text in (
+        ("remove", RemovalConfig, _remove, "delete an object's Gaussians (by id/name or a 3D box) and render the rest"),
+        ("holes", HoleConfig, _holes, "depth-guided hole masks: object pixels whose background no view saw"),
+        ("inpaint", InpaintConfig, _inpaint, "fill the hole masks of the removed renders (RGB and depth) in 2D"),
+        ("complete", CompleteConfig, _complete, "complete the scene from the inpainted views and score it"),
+    ):
+        p = sub.add_parser(name, help=text)
+        add_config_arguments(p, cls, required=("run",))
+        p.set_defaults(handler=handler)
     p = sub.add_parser("compare", help="side-by-side picture: a row per view, a column per folder of renders")
     p.add_argument("--columns", nargs="+", required=True, help="LABEL=DIR, in order")
     p.add_argument("--views", nargs="+", required=True, help="file names present in the folders")

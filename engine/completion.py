@@ -35,16 +35,15 @@ import numpy as np
 from engine.errors import InputError
 from engine.finetune import finetune_setup
 from engine.image_io import read_png, write_png
+from engine.method_names import METHODS, method_name
 from engine.output_dir import atomic_output_dir, check_new_output
 from engine.progress import emit
 from engine.render_views import render_pictures
-from engine.scene import Scene, load_scene
-from engine.scores import ScoreConfig, Scores, score_views
+from engine.scene import Scene
+from engine.scores import ScoreConfig, Scorer, Scores
 from engine.train_run import train
 from engine.trained_run import load_run
 from engine.training import pick_device
-
-METHODS = ("init", "direct", "ft")
 
 
 @dataclass
@@ -64,12 +63,6 @@ class CompleteConfig:
     lpips_backbone: str = ""  # see engine.scores.ScoreConfig
     lpips_heads: str = ""
     fid_weights: str = ""
-
-
-def method_name(method: str, inpainter: str, refs: int = 3, perceptual: str = "lpips") -> str:
-    if method == "ft":
-        return f"FT-{inpainter}({refs or 'All'})" + ("" if perceptual == "lpips" else f"[{perceptual}]")
-    return {"init": f"Init-{inpainter}", "direct": f"Direct-{inpainter}"}[method]
 
 
 def run_complete(config: CompleteConfig) -> dict:
@@ -97,13 +90,14 @@ def run_complete(config: CompleteConfig) -> dict:
     if config.method == "ft":
         holes = Path(config.holes) if config.holes else root / "holes"
         settings, plugins = finetune_setup(
-            settings, load_scene(out / "scene"), removed, inpainted, holes, config.refs, config.perceptual,
+            settings, original.scene, removed, inpainted, holes, config.refs, config.perceptual,
             config.steps or max(original.config.steps // 10, 100), config.seed, pick_device(config.device),
             (config.lpips_backbone, config.lpips_heads))
     metrics = train(settings, plugins=plugins)
     seconds = time.perf_counter() - start
-    scores = score_run(out / "run", _score_config(config), renders=out / "renders")
-    baseline = score_removed(original.scene, removed, _score_config(config))
+    scorer = Scorer(_score_config(config))
+    scores = score_run(out / "run", scorer, renders=out / "renders")
+    baseline = score_removed(original.scene, removed, scorer)
     report = {"method": name, "config": dataclasses.asdict(config), "seconds": round(seconds, 1),
               "gaussians": metrics["gaussians"], "scores": scores.values, "unavailable": scores.unavailable,
               "removed_scores": baseline.values}
@@ -121,7 +115,7 @@ def _score_config(config: CompleteConfig) -> ScoreConfig:
 
 
 def _training_scene(scene: Scene, inpainted: Path, target_id: int | None, out: Path) -> Path:
-    """The scene folder an Init run trains on (see the module docstring)."""
+    """The scene folder a completion run trains on (see the module docstring)."""
     shutil.copytree(scene.root / "sparse", out / "sparse")
     for name in ("split.json", "scene.json"):
         if (scene.root / name).is_file():
@@ -151,20 +145,20 @@ def _test_sets(scene: Scene) -> tuple[list[int], list[np.ndarray], list[np.ndarr
     return views, [scene.gt_images[i] for i in views], [scene.holes[i] for i in views]
 
 
-def score_run(run_dir: Path, config: ScoreConfig, renders: Path | None = None) -> Scores:
+def score_run(run_dir: Path, scorer: Scorer, renders: Path | None = None) -> Scores:
     """Scores of a trained run's test renders against its scene's gt/, masked by holes/; the renders are
     saved under `renders` when given (the benchmark's side-by-side pictures read them)."""
     run = load_run(run_dir)
     views, truths, holes = _test_sets(run.scene)
     pictures = [p.rgb for p in render_pictures(run.gaussians, [run.scene.cameras[i] for i in views],
-                                               run.sh_degree, pick_device(config.device))]
+                                               run.sh_degree, pick_device(scorer.config.device))]
     if renders is not None:
         for i, rgb in zip(views, pictures, strict=True):
             write_png(renders / run.scene.cameras[i].name, rgb)
-    return score_views(pictures, truths, holes, config)
+    return scorer.score(pictures, truths, holes)
 
 
-def score_removed(scene: Scene, removed: Path, config: ScoreConfig) -> Scores:
+def score_removed(scene: Scene, removed: Path, scorer: Scorer) -> Scores:
     """The same scores for the removed-but-unfilled scene's renders (the floor every method must beat)."""
     views, truths, holes = _test_sets(scene)
-    return score_views([read_png(removed / "images" / scene.cameras[i].name) for i in views], truths, holes, config)
+    return scorer.score([read_png(removed / "images" / scene.cameras[i].name) for i in views], truths, holes)

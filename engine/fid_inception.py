@@ -11,7 +11,6 @@ pytorch-fid on the GPU machine.
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import torch
@@ -19,6 +18,7 @@ import torch.nn.functional as F
 from torch import nn
 
 from engine.errors import InputError
+from engine.weight_files import find_weights
 
 WEIGHTS_FILE = "pt_inception-2015-12-05-6726825d.pth"
 
@@ -132,7 +132,7 @@ class FidInception(nn.Module):
         self.Mixed_7a, self.Mixed_7b, self.Mixed_7c = BlockD(768), BlockE(1280, False), BlockE(2048, True)
         self.fc = nn.Linear(2048, 1008)  # in the weights file; FID does not use it
         if load:
-            self._load(find_weights(weights))
+            self._load(find_inception(weights))
         self.eval().requires_grad_(False)
 
     def _load(self, path: Path) -> None:
@@ -155,11 +155,5 @@ class FidInception(nn.Module):
         return x.mean(dim=(2, 3))
 
 
-def find_weights(path: str = "") -> Path:
-    candidates = [path, os.environ.get("FID_INCEPTION", ""),
-                  str(Path(torch.hub.get_dir()) / "checkpoints" / WEIGHTS_FILE)]
-    for candidate in candidates:
-        if candidate and Path(candidate).is_file():
-            return Path(candidate)
-    raise InputError(f"FID Inception weights {WEIGHTS_FILE} not found (looked at "
-                     f"{', '.join(c for c in candidates if c)}): pass its path or set FID_INCEPTION")
+def find_inception(path: str = "") -> Path:
+    return find_weights(path, "FID_INCEPTION", WEIGHTS_FILE, "FID Inception weights")

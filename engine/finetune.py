@@ -48,13 +48,13 @@ def read_holes(scene: Scene, holes_dir: Path, pixels: int) -> dict[int, np.ndarr
     return {i: dilate(read_png(holes_dir / c.name, kind="mask") > 0, pixels) for i, c in enumerate(scene.cameras)}
 
 
-def hole_gaussians(scene: Scene, refs: list[int], holes: dict[int, np.ndarray], inpainted: Path, sh_degree: int,
-                   seed: int) -> Gaussians:
-    """New Gaussians on the inpainted surface of the reference views' holes (every other pixel)."""
+def hole_gaussians(scene: Scene, holes: dict[int, np.ndarray], depths: dict[int, np.ndarray], inpainted: Path,
+                   sh_degree: int, seed: int) -> Gaussians:
+    """New Gaussians on the inpainted surface (`depths`, one per reference view) of the reference views'
+    holes, every other pixel."""
     points, colors = [], []
-    for i in refs:
+    for i, depth in depths.items():
         camera = scene.cameras[i]
-        depth = read_depth(inpainted / "depth" / exr_name(camera.name))
         image = read_png(inpainted / "images" / camera.name)
         take = holes[i] & np.isfinite(depth) & (depth > 0)
         take[1::2, :] = False
@@ -128,10 +128,10 @@ def finetune_setup(original_config: TrainConfig, scene: Scene, removed: Path, in
     if not refs:
         raise InputError(f"no training view has a hole in {holes_dir}: nothing to finetune")
     frozen = load_ply(removed / "point_cloud.ply")
-    new = hole_gaussians(scene, refs, holes, inpainted, original_config.sh_degree, seed)
+    depths = {i: read_depth(inpainted / "depth" / exr_name(scene.cameras[i].name)) for i in refs}
+    new = hole_gaussians(scene, holes, depths, inpainted, original_config.sh_degree, seed)
     new["identity"] = nearest_identity(new["means"], frozen)
     start = {k: torch.cat([frozen[k].float(), new[k].float()]) for k in PARAM_NAMES}
-    depths = {i: read_depth(inpainted / "depth" / exr_name(scene.cameras[i].name)) for i in refs}
     config = dataclasses.replace(original_config, steps=steps, seed=seed, max_gaussians=0, refine_start=steps + 1,
                                  refine_stop=steps + 1, reset_every=10**9, sh_degree_interval=1)
     objective = FinetuneObjective(holes, refs, depths, perceptual, device, lpips)

@@ -39,7 +39,7 @@ from engine.render_views import render_pictures
 from engine.support_plane import stop_at_plane, support_plane
 from engine.trained_run import load_run
 from engine.training import pick_device
-from engine.visibility import unseen_mask
+from engine.visibility import DEFAULT_REL_TOL, unseen_mask
 
 
 @dataclass
@@ -48,7 +48,7 @@ class HoleConfig:
     removed: str = ""  # default RUN/removed
     out: str = ""  # default RUN/holes
     scene: str = ""  # default: the scene named in the run's config.json
-    rel_tol: float = 0.01  # depth test tolerance, relative to depth (see docs/BENCHMARKS.md)
+    rel_tol: float = DEFAULT_REL_TOL  # depth test tolerance, relative to depth (see docs/BENCHMARKS.md)
     dilate: int = 0  # px added around each hole afterwards
     support_plane: bool = True  # stop rays that see through the missing support patch at its plane
     occluder_margin: float = 0.0  # band around each view's object region that hides too, x image diagonal
@@ -75,9 +75,9 @@ def run_holes(config: HoleConfig) -> dict:
         progress.update(k + 1)
     progress.close()
     regions = [read_png(removed / "masks" / camera.name, kind="mask") > 0 for camera in scene.cameras]
-    # the object's region in each training view: it hid whatever lies behind it there
     plane = (support_plane(train_cameras, [regions[i] for i in scene.train], seen_depths, config.rel_tol)
              if config.support_plane else None)
+    # the object's region in each training view: it hid whatever lies behind it there
     occluders = [dilate(regions[i], round(config.occluder_margin * np.hypot(scene.cameras[i].width,
                                                                          scene.cameras[i].height)))
                  for i in scene.train]

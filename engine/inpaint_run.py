@@ -25,7 +25,7 @@ from engine.masks import dilate
 from engine.output_dir import atomic_output_dir
 from engine.preview import colorize_depth, label, overlay
 from engine.progress import Progress, emit
-from engine.scene import load_scene
+from engine.trained_run import load_run_scene
 
 SHEET_ROWS = 6
 
@@ -65,7 +65,7 @@ def run_inpaint(config: InpaintConfig) -> dict:
     for folder, command in needed + ([] if direct else [(holes, "holes")]):
         if not folder.is_dir():
             raise InputError(f"{folder} missing: run `python -m engine {command} --run {root}` first")
-    scene = load_scene(json.loads((root / "config.json").read_text())["scene"])
+    scene = load_run_scene(root)
     prompt = config.prompt or inpainter.default_prompt(scene.root)
     sheets: dict[str, list[np.ndarray]] = {"test": [], "train": []}
     seconds = 0.0

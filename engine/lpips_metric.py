@@ -17,7 +17,6 @@ load; scripts/check_metrics.py compares the two on the GPU machine. Weights, not
 from __future__ import annotations
 
 import importlib.util
-import os
 from pathlib import Path
 
 import torch
@@ -25,6 +24,7 @@ import torch.nn.functional as F
 from torch import nn
 
 from engine.errors import InputError
+from engine.weight_files import find_weights
 
 BACKBONE_FILE = "alexnet-owt-7be5be79.pth"
 CHANNELS = (64, 192, 384, 256, 256)
@@ -44,13 +44,7 @@ def alexnet_features() -> nn.Sequential:
 
 
 def find_backbone(path: str = "") -> Path:
-    candidates = [path, os.environ.get("LPIPS_BACKBONE", ""),
-                  str(Path(torch.hub.get_dir()) / "checkpoints" / BACKBONE_FILE)]
-    for candidate in candidates:
-        if candidate and Path(candidate).is_file():
-            return Path(candidate)
-    raise InputError(f"LPIPS backbone {BACKBONE_FILE} not found (looked at {', '.join(c for c in candidates if c)}): "
-                     "pass its path or set LPIPS_BACKBONE")
+    return find_weights(path, "LPIPS_BACKBONE", BACKBONE_FILE, "LPIPS backbone")
 
 
 def find_heads(path: str = "") -> Path:

@@ -85,41 +85,53 @@ def _mean(values: list[float | None]) -> float | None:
     return float(np.mean(kept)) if kept else None
 
 
+class Scorer:
+    """The metric networks, loaded once (or their absence, with the reason), for scoring several view sets."""
+
+    def __init__(self, config: ScoreConfig | None = None) -> None:
+        self.config = config or ScoreConfig()
+        self.missing: dict[str, str] = {}
+        self.lpips = _load("lpips", self.config, self.missing)
+        self.inception = _load("fid", self.config, self.missing)
+
+    def score(self, renders: list[np.ndarray], truths: list[np.ndarray], holes: list[np.ndarray]) -> Scores:
+        """Scores of uint8 renders (H, W, 3) against truths, with the true holes (H, W) bool, one per view."""
+        device = self.config.device
+        per_view: dict[str, list] = {k: [] for k in ("psnr", "ssim", "m_psnr", "m_ssim", "lpips", "m_lpips")}
+        crops: tuple[list, list] = ([], [])
+        for render, truth, hole in zip(renders, truths, holes, strict=True):
+            if render.shape != truth.shape or render.shape[:2] != hole.shape:
+                raise InputError(f"render {render.shape}, truth {truth.shape} and hole {hole.shape} differ in size")
+            a = torch.as_tensor(render, device=device).float() / 255
+            b = torch.as_tensor(truth, device=device).float() / 255
+            m = torch.as_tensor(hole, device=device, dtype=torch.bool)
+            for key, value in _pixel_scores(a, b, m).items():
+                per_view[key].append(value)
+            if self.lpips is not None:
+                spatial = self.lpips.map(a.permute(2, 0, 1)[None], b.permute(2, 0, 1)[None])[0]
+                per_view["lpips"].append(spatial.mean().item())
+                per_view["m_lpips"].append(spatial[m].mean().item() if m.any() else None)
+            if hole.any():
+                rows, cols = hole_crop(hole)
+                crops[0].append(render[rows, cols])
+                crops[1].append(truth[rows, cols])
+        values = {k: _mean(v) for k, v in per_view.items()}
+        values.update(_set_scores(self.inception, renders, truths, "", device))
+        values.update(_set_scores(self.inception, *crops, "m_", device))
+        unavailable: dict[str, str] = {}
+        for kind, keys in (("lpips", ("lpips", "m_lpips")), ("fid", ("fid", "kid", "m_fid", "m_kid"))):
+            if kind in self.missing:
+                unavailable.update({key: self.missing[kind] for key in keys})
+        for key in ("fid", "kid", "m_fid", "m_kid"):
+            if values[key] is None and key not in unavailable:
+                unavailable[key] = "needs at least 2 test views with a hole"
+        return Scores(values=values, unavailable=unavailable)
+
+
 def score_views(renders: list[np.ndarray], truths: list[np.ndarray], holes: list[np.ndarray],
                 config: ScoreConfig | None = None) -> Scores:
-    """Scores of uint8 renders (H, W, 3) against truths, with the true holes (H, W) bool, one per view."""
-    config = config or ScoreConfig()
-    unavailable: dict[str, str] = {}
-    lpips, inception = _load("lpips", config, unavailable), _load("fid", config, unavailable)
-    per_view: dict[str, list] = {k: [] for k in ("psnr", "ssim", "m_psnr", "m_ssim", "lpips", "m_lpips")}
-    crops: tuple[list, list] = ([], [])
-    for render, truth, hole in zip(renders, truths, holes, strict=True):
-        if render.shape != truth.shape or render.shape[:2] != hole.shape:
-            raise InputError(f"render {render.shape}, truth {truth.shape} and hole {hole.shape} differ in size")
-        a = torch.as_tensor(render, device=config.device).float() / 255
-        b = torch.as_tensor(truth, device=config.device).float() / 255
-        m = torch.as_tensor(hole, device=config.device, dtype=torch.bool)
-        for key, value in _pixel_scores(a, b, m).items():
-            per_view[key].append(value)
-        if lpips is not None:
-            spatial = lpips.map(a.permute(2, 0, 1)[None], b.permute(2, 0, 1)[None])[0]
-            per_view["lpips"].append(spatial.mean().item())
-            per_view["m_lpips"].append(spatial[m].mean().item() if m.any() else None)
-        if hole.any():
-            rows, cols = hole_crop(hole)
-            crops[0].append(render[rows, cols])
-            crops[1].append(truth[rows, cols])
-    values = {k: _mean(v) for k, v in per_view.items()}
-    values.update(_set_scores(inception, renders, truths, "", config.device))
-    values.update(_set_scores(inception, *crops, "m_", config.device))
-    for kind, keys in (("lpips", ("lpips", "m_lpips")), ("fid", ("fid", "kid", "m_fid", "m_kid"))):
-        if kind in unavailable:
-            reason = unavailable.pop(kind)
-            unavailable.update({key: reason for key in keys})
-    for key in ("fid", "kid", "m_fid", "m_kid"):
-        if values[key] is None and key not in unavailable:
-            unavailable[key] = "needs at least 2 test views with a hole"
-    return Scores(values=values, unavailable=unavailable)
+    """Scorer(config).score(...): for a single set of views."""
+    return Scorer(config).score(renders, truths, holes)
 
 
 def _set_scores(inception, renders: list[np.ndarray], truths: list[np.ndarray], prefix: str, device: str

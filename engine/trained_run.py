@@ -29,9 +29,8 @@ class TrainedRun:
     sh_degree: int
 
 
-def load_run(root: Path | str, scene: Path | str | None = None) -> TrainedRun:
-    """Load run folder `root`; `scene` overrides the scene folder recorded in its config.json."""
-    root = Path(root)
+def _read_run(root: Path, scene: Path | str | None) -> tuple[TrainConfig, int, Path]:
+    """The run's config, its step count and its scene folder, checked, each problem a one-line error."""
     for name in ("config.json", "metrics.json", "point_cloud.ply", "classifier.npz"):
         if not (root / name).is_file():
             raise InputError(f"{root / name} missing: {root} is not a finished training run "
@@ -44,6 +43,18 @@ def load_run(root: Path | str, scene: Path | str | None = None) -> TrainedRun:
     scene_dir = Path(scene) if scene is not None else Path(config.scene)
     if not scene_dir.is_dir():
         raise InputError(f"scene folder {scene_dir} named in {root / 'config.json'} is gone: pass --scene DIR")
+    return config, steps, scene_dir
+
+
+def load_run_scene(root: Path | str) -> Scene:
+    """Only the scene of run folder `root`, for stages that read its files but not its Gaussians."""
+    return load_scene(_read_run(Path(root), None)[2])
+
+
+def load_run(root: Path | str, scene: Path | str | None = None) -> TrainedRun:
+    """Load run folder `root`; `scene` overrides the scene folder recorded in its config.json."""
+    root = Path(root)
+    config, steps, scene_dir = _read_run(root, scene)
     return TrainedRun(root=root, config=config, scene=load_scene(scene_dir),
                       gaussians=load_ply(root / "point_cloud.ply"), classifier=load_classifier(root / "classifier.npz"),
                       sh_degree=config.sh_degree_at(steps))

@@ -34,19 +34,13 @@ add_repo_to_path()
 from benchmark_report import write_reports  # noqa: E402
 
 from addon.engine_call import EngineError, run_engine  # noqa: E402
+from engine.method_names import method_name  # noqa: E402
 
-METHODS = {"init": ("init", 3), "direct": ("direct", 3), "ft3": ("ft", 3), "ftall": ("ft", 0)}
+METHODS = {"init": ("init", 3), "direct": ("direct", 3), "ft3": ("ft", 3), "ftall": ("ft", 0)}  # -> (method, refs)
 COLUMNS = [("psnr", "PSNR", max), ("m_psnr", "m-PSNR", max), ("ssim", "SSIM", max), ("m_ssim", "m-SSIM", max),
            ("lpips", "LPIPS", min), ("m_lpips", "m-LPIPS", min), ("fid", "FID", min), ("m_fid", "m-FID", min),
            ("kid", "KID", min), ("m_kid", "m-KID", min), ("seconds", "Run time (s)", min),
            ("gaussians", "Gaussians", None)]
-
-
-def method_name(method: str, inpainter: str, perceptual: str) -> str:
-    kind, refs = METHODS[method]
-    if kind == "ft":
-        return f"FT-{inpainter}({refs or 'All'})" + ("" if perceptual == "lpips" else f"[{perceptual}]")
-    return f"{kind.capitalize()}-{inpainter}"
 
 
 class Stages:
@@ -106,14 +100,14 @@ def _target(scene: Path) -> str:
 
 
 def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespace) -> dict:
-    name = method_name(method, inpainter, args.perceptual)
+    kind, refs = METHODS[method]
+    name = method_name(kind, inpainter, refs, args.perceptual)
     cell = {"scene": stages.scene.name, "seed": stages.seed, "inpainter": inpainter, "method": name}
     out = stages.run / "complete" / name
     try:
         if not (out / "scores.json").is_file():
             stages.prepare(inpainter, direct=method == "direct")
             shutil.rmtree(out, ignore_errors=True)  # an interrupted cell starts again
-            kind, refs = METHODS[method]
             options = ["--method", kind, "--inpainter", inpainter, "--seed", str(stages.seed), "--device",
                        args.device, "--refs", str(refs), "--perceptual", args.perceptual]
             options += ["--steps", str(args.complete_steps)] if args.complete_steps else []
