@@ -90,7 +90,7 @@ def run_complete(config: CompleteConfig) -> dict:
     if config.method == "ft":
         holes = Path(config.holes) if config.holes else root / "holes"
         settings, plugins = finetune_setup(
-            settings, original.scene, removed, inpainted, holes, config.refs, config.perceptual,
+            settings, original, removed, inpainted, holes, config.refs, config.perceptual,
             config.steps or max(original.config.steps // 10, 100), config.seed, pick_device(config.device),
             (config.lpips_backbone, config.lpips_heads))
     metrics = train(settings, plugins=plugins)

@@ -32,12 +32,16 @@ def num_sh_rest(sh_degree: int) -> int:
 
 
 def init_from_points(points: np.ndarray, colors: np.ndarray, sh_degree: int = 3, init_opacity: float = 0.1,
-                     seed: int = 0) -> Gaussians:
-    """Gaussians at the sparse points: isotropic, sized by the mean distance to the 3 nearest points (as 3DGS)."""
+                     seed: int = 0, sizes: np.ndarray | None = None) -> Gaussians:
+    """Gaussians at the sparse points: isotropic, sized by the mean distance to the 3 nearest points (as 3DGS),
+    or by `sizes` (world units, one per point) where the caller knows each point's footprint."""
     generator = torch.Generator().manual_seed(seed)
     means = torch.as_tensor(points, dtype=torch.float32)
     n = len(means)
-    dist = knn_distances(means, k=3).mean(dim=-1).clamp_min(1e-7)
+    if sizes is None:
+        dist = knn_distances(means, k=3).mean(dim=-1).clamp_min(1e-7)
+    else:
+        dist = torch.as_tensor(sizes, dtype=torch.float32).clamp_min(1e-7)
     quats = torch.zeros(n, 4)
     quats[:, 0] = 1.0
     return {

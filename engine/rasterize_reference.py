@@ -83,7 +83,9 @@ def rasterize_reference(means, quats, scales, opacities, colors, viewmat, K, wid
     ty0 = torch.floor((my - ry) / TILE).clamp(0, tiles_y)
     ty1 = torch.ceil((my + ry) / TILE).clamp(0, tiles_y)
     valid = (radii > 0).any(-1)
-    order = torch.argsort(z.detach())
+    # stable: a clone shares its parent's depth, and an unstable sort made runs differ (which of the two
+    # gets the front's gradient)
+    order = torch.argsort(z.detach(), stable=True)
     for ty in range(tiles_y):
         for tx in range(tiles_x):
             hit = valid & (tx0 <= tx) & (tx < tx1) & (ty0 <= ty) & (ty < ty1)

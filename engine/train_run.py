@@ -70,7 +70,7 @@ def prepare_run(config: TrainConfig, resume: bool) -> TrainConfig:
 
 def train(config: TrainConfig, resume: bool = False, plugins: dict | None = None) -> dict:
     """Train a new run, or continue one from its newest checkpoint; returns its metrics. `plugins` are the
-    Trainer's completion plug-ins (start, frozen, objective, views); a resumed run needs the same ones."""
+    Trainer's completion plug-ins (start, frozen, objective, views, classifier); a resumed run needs the same ones."""
     config = prepare_run(config, resume)
     run = Path(config.out)
     scene = load_scene(config.scene)

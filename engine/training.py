@@ -109,11 +109,13 @@ class Trainer:
     """Holds the parameters, optimizers and strategy state of one run; `step()` advances it by one view."""
 
     def __init__(self, config: TrainConfig, scene: Scene, device: torch.device, start: Gaussians | None = None,
-                 frozen: int = 0, objective: Objective | None = None, views: list[int] | None = None) -> None:
+                 frozen: int = 0, objective: Objective | None = None, views: list[int] | None = None,
+                 classifier: torch.nn.Linear | None = None) -> None:
         """`start`: Gaussians to begin from instead of the sparse points, of which the first `frozen` never
         change (their gradients are zeroed before every optimizer step, so Adam's moments stay zero and the
         update is exactly zero). `objective` replaces Gaussian Grouping's loss; `views` restricts the
-        training views that are drawn. These are the completion methods' plug-ins (engine.finetune)."""
+        training views that are drawn; `classifier` starts from a trained identity classifier instead of a random
+        one. These are the completion methods' plug-ins (engine.finetune)."""
         self.config, self.scene, self.device = config, scene, device
         self.start, self.frozen = start, frozen
         self.objective = objective or GroupingObjective()
@@ -130,7 +132,7 @@ class Trainer:
         self.extent = scene_extent(scene)
         self.params = self._init_params()
         self.optimizers = {name: self._adam(name, p) for name, p in self.params.items()}
-        self.classifier = new_classifier(num_classes_of(scene)).to(device)
+        self.classifier = (classifier or new_classifier(num_classes_of(scene))).to(device)
         self.classifier_opt = torch.optim.Adam(self.classifier.parameters(), lr=config.lr_classifier)
         self.strategy = self._strategy()
         self.strategy.check_sanity(self.params, self.optimizers)

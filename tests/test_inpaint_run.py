@@ -139,13 +139,15 @@ def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_
     assert len(after["means"]) > n  # new Gaussians in the hole
     for key, value in before.items():  # the published code's freeze fails; ours holds bit for bit
         assert torch.equal(after[key][:n], value), key
-    # it fits its objective: inside the holes of the training views the render moved toward the inpainted
-    # images. (The tiny run's one test view barely changes: 19.83 vs 19.86 dB m-PSNR; see the closing note.)
+    # it fits its objective: inside the holes of the reference views, where the masked L1 pulls it, the render
+    # moved toward the inpainted images (measured on tiny runs of three seeds: 4.9 vs 6.0, 3.9 vs 4.3, 4.5 vs
+    # 8.1 mean absolute error; the one test view barely changes, see docs/BENCHMARKS.md)
+    from engine.finetune import read_holes, reference_views
     from engine.render_views import render_pictures
     from engine.trained_run import load_run
 
     run = load_run(out / "run")
-    views = [i for i in run.scene.train if (read_png(stages["holes"] / run.scene.cameras[i].name) > 0).any()]
+    views = reference_views(read_holes(run.scene, stages["holes"], 0), run.scene.train, refs)
     cameras = [run.scene.cameras[i] for i in views]
     errors = {"ft": [], "removed": []}
     for camera, picture in zip(cameras, render_pictures(run.gaussians, cameras, run.sh_degree, "cpu"), strict=True):
