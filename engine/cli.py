@@ -92,6 +92,12 @@ def _compare(args: argparse.Namespace) -> None:
     print(f"wrote {compare_sheet(columns, args.views, Path(args.out))}", file=sys.stderr)
 
 
+def _chart(args: argparse.Namespace) -> None:
+    from engine.chart_png import chart_png
+
+    print(f"wrote {chart_png(Path(args.spec), Path(args.out))}", file=sys.stderr)
+
+
 def _version(args: argparse.Namespace) -> None:
     import torch
 
@@ -145,6 +151,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--views", nargs="+", required=True, help="file names present in the folders")
     p.add_argument("--out", required=True, help="PNG to write")
     p.set_defaults(handler=_compare)
+    p = sub.add_parser("chart", help="draw a chart's items (the benchmark's speed_accuracy.json) as a PNG")
+    p.add_argument("--spec", required=True, help="JSON with width, height and items")
+    p.add_argument("--out", required=True, help="PNG to write")
+    p.set_defaults(handler=_chart)
     p = sub.add_parser("version", help="engine, torch and CUDA versions (the add-on's health check)")
     p.set_defaults(handler=_version)
     return parser

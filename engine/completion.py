@@ -3,8 +3,9 @@
 `init` (the paper's Init-<inpainter>): train a new scene from scratch on the inpainted images with the
 original cameras and sparse points (COLMAP is not re-run), with the training run's own settings. The
 training scene is a folder of its own, RUN/complete/<Name>/scene (written atomically): sparse/ and
-split.json as they were,
-images/ the inpainted training views (test views: the ground truth when the scene has it, so the
+split.json as they were, images/ the training views: the inpainted render inside the removed object's
+region (grown by the inpainting's dilation and 2 px), the input image outside it (test views: the ground
+truth when the scene has it, so the
 training run's own test PSNR means something; they are never trained on), masks/ with the removed object's
 id turned into background, and gt/ and holes/ for scoring. Then RUN/complete/<Name>/run is an ordinary
 training run (resumable like any other), renders/ holds its test views, and scores.json, written last
@@ -35,6 +36,7 @@ import numpy as np
 from engine.errors import InputError
 from engine.finetune import finetune_setup
 from engine.image_io import read_png, write_png
+from engine.masks import dilate
 from engine.method_names import METHODS, method_name
 from engine.output_dir import atomic_output_dir, check_new_output
 from engine.progress import emit
@@ -82,8 +84,9 @@ def run_complete(config: CompleteConfig) -> dict:
     out = Path(config.out) if config.out else root / "complete" / name
     check_new_output(out)
     start = time.perf_counter()
+    keep = _object_regions(original.scene, removed, inpainted) if config.method == "init" else None
     with atomic_output_dir(out / "scene") as tmp:
-        _training_scene(original.scene, inpainted, target and target["id"], tmp)
+        _training_scene(original.scene, inpainted, target and target["id"], tmp, keep)
     settings = dataclasses.replace(original.config, scene=str(out / "scene"), out=str(out / "run"), seed=config.seed,
                                    device=config.device, steps=config.steps or original.config.steps)
     plugins = None
@@ -114,8 +117,20 @@ def _score_config(config: CompleteConfig) -> ScoreConfig:
                        fid_weights=config.fid_weights, device=device)
 
 
-def _training_scene(scene: Scene, inpainted: Path, target_id: int | None, out: Path) -> Path:
-    """The scene folder a completion run trains on (see the module docstring)."""
+def _object_regions(scene: Scene, removed: Path, inpainted: Path, margin: int = 2) -> dict[int, np.ndarray]:
+    """Per view, where the inpainted render replaces the input image: the removed object's region (removal's
+    masks) grown by the inpainting's dilation and `margin` px. Elsewhere the input image is the truth, and
+    a render of the removed scene is only a copy of it with the model's errors: training a new scene on
+    renders alone distils those errors in (measured on the tiny run: 16.0 dB PSNR against the unfilled
+    scene's 20.0, with the original's step count)."""
+    grow = json.loads((inpainted / "config.json").read_text())["config"].get("dilate", 0) + margin
+    return {i: dilate(read_png(removed / "masks" / c.name, kind="mask") > 0, grow) for i, c in enumerate(scene.cameras)}
+
+
+def _training_scene(scene: Scene, inpainted: Path, target_id: int | None, out: Path,
+                    keep: dict[int, np.ndarray] | None = None) -> Path:
+    """The scene folder a completion run trains on (see the module docstring); with `keep`, the training
+    images are the inpainted ones only inside those regions and the input images elsewhere."""
     shutil.copytree(scene.root / "sparse", out / "sparse")
     for name in ("split.json", "scene.json"):
         if (scene.root / name).is_file():
@@ -128,6 +143,8 @@ def _training_scene(scene: Scene, inpainted: Path, target_id: int | None, out: P
             image = scene.gt_images.get(i, scene.images[i])
         else:
             image = read_png(inpainted / "images" / camera.name)
+            if keep is not None:
+                image = np.where(keep[i][..., None], image, scene.images[i])
         write_png(out / "images" / camera.name, image)
     if scene.masks is not None:
         for camera, mask in zip(scene.cameras, scene.masks, strict=True):

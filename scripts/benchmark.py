@@ -11,7 +11,7 @@ that fails is recorded with its one-line reason and the others go on.
 
 Writes OUT/results.json and results.csv (one row per cell), and OUT/tables.md: per scene and averaged over
 scenes, the paper's columns (mean over seeds; best in bold), with the removed-but-unfilled scene as the
-first row; OUT/stability.md and OUT/speed_accuracy.svg (scripts/benchmark_report.py); OUT/pictures/
+first row; OUT/stability.md and OUT/speed_accuracy.svg and .png (scripts/benchmark_report.py); OUT/pictures/
 <scene>.png, the first seed's test views side by side (GT, then each method). Methods: init,
 direct, ft3, ftall. Run time of a method: the stages it needs (Init and FT: train + remove + holes +
 inpaint + complete; Direct: its inpainting + complete).
@@ -237,6 +237,10 @@ def main(argv: list[str] | None = None) -> int:
                   else f"FAILED: {cell['reason']}")
         print(f"[{bar:<20}] {k}/{len(matrix)} {scene.name} seed {seed} {cell['method']}: {detail} "
               f"({time.perf_counter() - start:.0f} s here)", flush=True)
+    try:  # the PNG once at the end: it takes an engine process
+        run_engine(["chart", "--spec", str(out / "speed_accuracy.json"), "--out", str(out / "speed_accuracy.png")])
+    except EngineError as exc:
+        print(f"no PNG chart: {exc}", flush=True)
     pictures(cells, out, args.seeds[0])
     print(f"tables: {out / 'tables.md'}  results: {out / 'results.csv'}  pictures: {out / 'pictures'}", flush=True)
     return 0

@@ -4,11 +4,13 @@ Pure Python (no numpy, no OpenCV), because scripts/benchmark.py also runs in Ble
 - stability.md: per scene and method, mean and spread (sample standard deviation) over seeds of PSNR and
   m-PSNR, how many seeds finished, and every failure with its reason.
 - speed_accuracy.svg: run time (x, log scale) against m-PSNR and against PSNR (two panels), one labelled
-  point per method, averaged over scenes and seeds.
+  point per method, averaged over scenes and seeds. The same drawing items go to speed_accuracy.json,
+  from which `python -m engine chart` draws speed_accuracy.png.
 """
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 from statistics import mean, stdev
@@ -42,7 +44,8 @@ def _points(cells: list[dict], key: str) -> list[tuple[str, float, float]]:
             for m in sorted({c["method"] for c in done})]
 
 
-def _panel(points: list[tuple[str, float, float]], label: str, left: int) -> list[str]:
+def _panel(points: list[tuple[str, float, float]], label: str, left: int) -> list[list]:
+    """One panel as drawing items: ["line", x1, y1, x2, y2], ["dot", x, y], ["text", x, y, text, anchor]."""
     if not points:
         return []
     xs = [math.log10(max(p[1], 1e-3)) for p in points]
@@ -54,30 +57,44 @@ def _panel(points: list[tuple[str, float, float]], label: str, left: int) -> lis
         return (left + MARGIN + (x - x0) / (x1 - x0) * (WIDTH - 2 * MARGIN),
                 HEIGHT - MARGIN - (y - y0) / (y1 - y0) * (HEIGHT - 2 * MARGIN))
 
-    ox, oy = left + MARGIN, HEIGHT - MARGIN
-    out = [f'<line x1="{ox}" y1="{oy}" x2="{left + WIDTH - MARGIN}" y2="{oy}" stroke="black"/>',
-           f'<line x1="{ox}" y1="{oy}" x2="{ox}" y2="{MARGIN}" stroke="black"/>',
-           f'<text x="{left + WIDTH / 2}" y="{HEIGHT - 15}" text-anchor="middle">run time (s, log scale)</text>',
-           f'<text x="{left + 15}" y="{HEIGHT / 2}" transform="rotate(-90 {left + 15} {HEIGHT / 2})" '
-           f'text-anchor="middle">{label}</text>',
-           f'<text x="{ox}" y="{oy + 18}" text-anchor="middle">{10 ** x0:.0f}</text>',
-           f'<text x="{left + WIDTH - MARGIN}" y="{oy + 18}" text-anchor="middle">{10 ** x1:.0f}</text>',
-           f'<text x="{ox - 6}" y="{oy}" text-anchor="end">{y0:.1f}</text>',
-           f'<text x="{ox - 6}" y="{MARGIN + 4}" text-anchor="end">{y1:.1f}</text>']
+    ox, oy, right = left + MARGIN, HEIGHT - MARGIN, left + WIDTH - MARGIN
+    items = [["line", ox, oy, right, oy], ["line", ox, oy, ox, MARGIN],
+             ["text", left + WIDTH / 2, HEIGHT - 15, "run time (s, log scale)", "middle"],
+             ["text", ox, MARGIN - 14, label, "middle"],
+             ["text", ox, oy + 18, f"{10 ** x0:.0f}", "middle"], ["text", right, oy + 18, f"{10 ** x1:.0f}", "middle"],
+             ["text", ox - 6, oy, f"{y0:.1f}", "end"], ["text", ox - 6, MARGIN + 4, f"{y1:.1f}", "end"]]
     for (name, _, _), x, y in zip(points, xs, ys, strict=True):
         px, py = at(x, y)
-        out += [f'<circle cx="{px:.1f}" cy="{py:.1f}" r="5" fill="#1f77b4"/>',
-                f'<text x="{px + 8:.1f}" y="{py - 6:.1f}" font-size="12">{name}</text>']
-    return out
+        items += [["dot", px, py], ["text", px + 8, py - 6, name, "start"]]
+    return items
 
 
-def speed_accuracy_svg(cells: list[dict]) -> str:
-    body = _panel(_points(cells, "m_psnr"), "m-PSNR (dB)", 0) + _panel(_points(cells, "psnr"), "PSNR (dB)", WIDTH)
-    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{2 * WIDTH}" height="{HEIGHT}" '
+def speed_accuracy_chart(cells: list[dict]) -> dict:
+    """The chart as a list of drawing items: written as SVG here, and as PNG by the engine (`engine chart`),
+    which has OpenCV; Blender's Python has neither a PNG rasterizer nor fonts."""
+    items = _panel(_points(cells, "m_psnr"), "m-PSNR (dB)", 0) + _panel(_points(cells, "psnr"), "PSNR (dB)", WIDTH)
+    return {"width": 2 * WIDTH, "height": HEIGHT, "items": items}
+
+
+def chart_svg(chart: dict) -> str:
+    anchors = {"start": "start", "middle": "middle", "end": "end"}
+    body = []
+    for kind, *v in chart["items"]:
+        if kind == "line":
+            body.append(f'<line x1="{v[0]:.1f}" y1="{v[1]:.1f}" x2="{v[2]:.1f}" y2="{v[3]:.1f}" stroke="black"/>')
+        elif kind == "dot":
+            body.append(f'<circle cx="{v[0]:.1f}" cy="{v[1]:.1f}" r="5" fill="#1f77b4"/>')
+        else:
+            body.append(f'<text x="{v[0]:.1f}" y="{v[1]:.1f}" text-anchor="{anchors[v[3]]}">{v[2]}</text>')
+    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{chart["width"]}" height="{chart["height"]}" '
             f'font-family="sans-serif" font-size="13"><rect width="100%" height="100%" fill="white"/>'
             + "".join(body) + "</svg>\n")
 
 
-def write_reports(cells: list[dict], out: Path) -> None:
+def write_reports(cells: list[dict], out: Path) -> Path:
+    """stability.md, speed_accuracy.svg and the chart's items (speed_accuracy.json, for the PNG)."""
     (out / "stability.md").write_text("\n".join(stability_lines(cells)))
-    (out / "speed_accuracy.svg").write_text(speed_accuracy_svg(cells))
+    chart = speed_accuracy_chart(cells)
+    (out / "speed_accuracy.svg").write_text(chart_svg(chart))
+    (out / "speed_accuracy.json").write_text(json.dumps(chart))
+    return out / "speed_accuracy.json"

@@ -35,6 +35,8 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     assert "| Init-fsr | 1/1 |" in stability and "| Init-lama | 0/1 |" in stability and "LAMA_MODEL" in stability
     svg = (tmp_path / "speed_accuracy.svg").read_text()
     assert svg.startswith("<svg") and svg.count("<circle") == 4  # 2 methods that finished x 2 panels
+    chart = read_png(tmp_path / "speed_accuracy.png")  # the same items drawn by the engine
+    assert chart.shape[:2] == (2 * 340, 2 * 920) and (chart != 255).any()
     picture = read_png(tmp_path / "pictures" / f"{living_scene.name}.png")
     assert picture.shape[1] == 3 * 96  # GT, Init-fsr, FT-fsr(3)[l1] for the tiny scene's 96 px wide views
     times = (tmp_path / "work" / living_scene.name / "seed0" / "stage_times.json").read_text()
