@@ -63,10 +63,24 @@ def _panel(points: list[tuple[str, float, float]], label: str, left: int) -> lis
              ["text", ox, MARGIN - 14, label, "middle"],
              ["text", ox, oy + 18, f"{10 ** x0:.0f}", "middle"], ["text", right, oy + 18, f"{10 ** x1:.0f}", "middle"],
              ["text", ox - 6, oy, f"{y0:.1f}", "end"], ["text", ox - 6, MARGIN + 4, f"{y1:.1f}", "end"]]
+    placed: list[tuple[float, float, float, float]] = []
     for (name, _, _), x, y in zip(points, xs, ys, strict=True):
         px, py = at(x, y)
-        items += [["dot", px, py], ["text", px + 8, py - 6, name, "start"]]
+        items += [["dot", px, py], _label(name, px, py, left + WIDTH, placed)]
     return items
+
+
+def _label(name: str, px: float, py: float, right: float, placed: list) -> list:
+    """A point's label beside it, moved up or down until it overlaps no label placed before (and to the
+    point's left where it would leave the panel). Text width is estimated at 7 px per character."""
+    width = 7 * len(name)
+    start = px + 8 if px + 8 + width < right else px - 8 - width
+    for shift in (0, 15, -15, 30, -30, 45, -45, 60, -60):
+        box = (start, py - 6 + shift - 12, start + width, py - 6 + shift)
+        if not any(box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3] for b in placed):
+            break
+    placed.append(box)
+    return ["text", start, box[3], name, "start"]
 
 
 def speed_accuracy_chart(cells: list[dict]) -> dict:
