@@ -120,9 +120,9 @@ def _score_config(config: CompleteConfig) -> ScoreConfig:
 def _object_regions(scene: Scene, removed: Path, inpainted: Path, margin: int = 2) -> dict[int, np.ndarray]:
     """Per view, where the inpainted render replaces the input image: the removed object's region (removal's
     masks) grown by the inpainting's dilation and `margin` px. Elsewhere the input image is the truth, and
-    a render of the removed scene is only a copy of it with the model's errors: training a new scene on
-    renders alone distils those errors in (measured on the tiny run: 16.0 dB PSNR against the unfilled
-    scene's 20.0, with the original's step count)."""
+    a render of the removed scene is only a copy of it with the model's errors, which a new scene trained on
+    renders alone would learn. (Measured on a tiny run, test-view PSNR: 16.0 dB on renders alone, 16.4 with
+    the input images, against 20.0 for the unfilled scene; most of that gap is the tiny runs' seed noise.)"""
     grow = json.loads((inpainted / "config.json").read_text())["config"].get("dilate", 0) + margin
     return {i: dilate(read_png(removed / "masks" / c.name, kind="mask") > 0, grow) for i, c in enumerate(scene.cameras)}
 

@@ -41,6 +41,7 @@ def _data_term(grey: np.ndarray, known: np.ndarray) -> np.ndarray:
     # gradients that straddle the unknown region are artefacts of its placeholder values
     trusted = cv2.erode(known.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
     gx, gy = gx * trusted, gy * trusted
+    # a front pixel is unknown, so it takes the gradient of its 3x3 neighbourhood (largest plus most negative)
     gx = cv2.dilate(gx, np.ones((3, 3), np.uint8)) + cv2.erode(gx, np.ones((3, 3), np.uint8))
     gy = cv2.dilate(gy, np.ones((3, 3), np.uint8)) + cv2.erode(gy, np.ones((3, 3), np.uint8))
     filled = known.astype(np.float32)
