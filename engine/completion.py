@@ -36,7 +36,8 @@ import numpy as np
 from engine.errors import InputError
 from engine.finetune import finetune_setup
 from engine.image_io import read_png, write_png
-from engine.masks import dilate
+from engine.inpaint_run import inpainted_dilation
+from engine.masks import read_masks
 from engine.method_names import METHODS, method_name
 from engine.output_dir import atomic_output_dir, check_new_output
 from engine.progress import emit
@@ -123,8 +124,7 @@ def _object_regions(scene: Scene, removed: Path, inpainted: Path, margin: int = 
     a render of the removed scene is only a copy of it with the model's errors, which a new scene trained on
     renders alone would learn. (Measured on a tiny run, test-view PSNR: 16.0 dB on renders alone, 16.4 with
     the input images, against 20.0 for the unfilled scene; most of that gap is the tiny runs' seed noise.)"""
-    grow = json.loads((inpainted / "config.json").read_text())["config"].get("dilate", 0) + margin
-    return {i: dilate(read_png(removed / "masks" / c.name, kind="mask") > 0, grow) for i, c in enumerate(scene.cameras)}
+    return read_masks(removed / "masks", scene.cameras, inpainted_dilation(inpainted) + margin)
 
 
 def _training_scene(scene: Scene, inpainted: Path, target_id: int | None, out: Path,

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import json
 from pathlib import Path
 
 import numpy as np
@@ -29,7 +28,8 @@ from engine.camera import backproject, pixel_grid
 from engine.errors import InputError
 from engine.gaussians import PARAM_NAMES, Gaussians, init_from_points
 from engine.image_io import exr_name, read_depth, read_png
-from engine.masks import dilate
+from engine.inpaint_run import inpainted_dilation
+from engine.masks import read_masks
 from engine.ply_io import load_ply
 from engine.scene import Scene
 from engine.scores import hole_crop
@@ -44,10 +44,6 @@ def reference_views(holes: dict[int, np.ndarray], train: list[int], count: int) 
     """The `count` training views with the largest holes (0: every training view with a hole)."""
     ranked = sorted((i for i in train if holes[i].any()), key=lambda i: -int(holes[i].sum()))
     return ranked if count == 0 else ranked[:count]
-
-
-def read_holes(scene: Scene, holes_dir: Path, pixels: int) -> dict[int, np.ndarray]:
-    return {i: dilate(read_png(holes_dir / c.name, kind="mask") > 0, pixels) for i, c in enumerate(scene.cameras)}
 
 
 def hole_gaussians(scene: Scene, holes: dict[int, np.ndarray], depths: dict[int, np.ndarray], inpainted: Path,
@@ -132,8 +128,7 @@ def finetune_setup(settings: TrainConfig, original: TrainedRun, removed: Path, i
             raise InputError(f"{exc} (or finetune with --perceptual l1, which the results then name)") from exc
     if not holes_dir.is_dir():
         raise InputError(f"{holes_dir} missing: run `python -m engine holes` on the run first")
-    dilation = json.loads((inpainted / "config.json").read_text())["config"].get("dilate", 0)
-    holes = read_holes(scene, holes_dir, dilation)
+    holes = read_masks(holes_dir, scene.cameras, inpainted_dilation(inpainted))
     refs = reference_views(holes, scene.train, refs_count)
     if not refs:
         raise InputError(f"no training view has a hole in {holes_dir}: nothing to finetune")

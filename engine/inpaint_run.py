@@ -30,6 +30,11 @@ from engine.trained_run import load_run_scene
 SHEET_ROWS = 6
 
 
+def inpainted_dilation(inpainted: Path) -> int:
+    """The px an inpainting run grew its masks by (from its config.json): what it filled beyond the holes."""
+    return json.loads((inpainted / "config.json").read_text())["config"].get("dilate", 0)
+
+
 @dataclass
 class InpaintConfig:
     run: str = ""

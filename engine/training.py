@@ -117,7 +117,7 @@ class Trainer:
         training views that are drawn; `classifier` starts from a trained identity classifier instead of a random
         one. These are the completion methods' plug-ins (engine.finetune)."""
         self.config, self.scene, self.device = config, scene, device
-        self.start, self.frozen = start, frozen
+        self.frozen = frozen
         self.objective = objective or GroupingObjective()
         self.train_views = views if views is not None else scene.train
         self.budget = config.max_gaussians > 0
@@ -130,7 +130,7 @@ class Trainer:
         self.generator = torch.Generator().manual_seed(config.seed)
         self.order: list[int] = []
         self.extent = scene_extent(scene)
-        self.params = self._init_params()
+        self.params = self._init_params(start)
         self.optimizers = {name: self._adam(name, p) for name, p in self.params.items()}
         self.classifier = (classifier or new_classifier(num_classes_of(scene))).to(device)
         self.classifier_opt = torch.optim.Adam(self.classifier.parameters(), lr=config.lr_classifier)
@@ -148,10 +148,10 @@ class Trainer:
         self.step_index = 0
         self.seconds = 0.0
 
-    def _init_params(self) -> torch.nn.ParameterDict:
+    def _init_params(self, start: Gaussians | None) -> torch.nn.ParameterDict:
         cfg = self.config
-        if self.start is not None:
-            return self._parameters(self.start)
+        if start is not None:
+            return self._parameters(start)
         points, colors = self.scene.points, self.scene.colors
         if self.budget and len(points) > cfg.max_gaussians:  # MCMC never removes: start within the cap
             keep = np.random.default_rng(cfg.seed).choice(len(points), cfg.max_gaussians, replace=False)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
@@ -15,7 +14,7 @@ from engine.inpaint_run import InpaintConfig, run_inpaint
 from engine.inpainters.nanobanana import PAPER_PROMPTS
 from engine.masks import dilate
 from engine.removal import RemovalConfig, run_removal
-from engine.scene import load_scene
+from engine.trained_run import load_run_scene
 
 
 @pytest.fixture(scope="module")
@@ -31,7 +30,7 @@ def test_fsr_fills_every_hole_and_passes_views_without_one_through(stages):
     out = stages["work"] / "fsr"
     report = run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="fsr", removed=str(stages["removed"]),
                                        holes=str(stages["holes"]), out=str(out)))
-    scene = load_scene(json.loads((stages["run"] / "config.json").read_text())["scene"])
+    scene = load_run_scene(stages["run"])
     assert report["views"] == len(scene.cameras) and report["prompt"] is None
     filled_any = False
     for camera in scene.cameras:
@@ -55,7 +54,7 @@ def test_nanobanana_paints_the_input_images_with_the_paper_prompt_and_never_writ
     with gemini_server() as (url, requests):
         monkeypatch.setenv("GOOGLE_GEMINI_BASE_URL", url)  # the SDK's own setting for another endpoint
         report = run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="nanobanana", out=str(out)))
-    scene = load_scene(json.loads((stages["run"] / "config.json").read_text())["scene"])
+    scene = load_run_scene(stages["run"])
     assert len(requests) == len(scene.cameras) == report["views"]
     assert {prompt_of(r) for r in requests} == {PAPER_PROMPTS["livingroom"]}
     for i, camera in enumerate(scene.cameras):  # the input images, not the removed renders, went out
@@ -111,7 +110,7 @@ def test_init_completion_trains_on_the_inpainted_views_and_carries_the_fill_into
     trained = load_run(out / "run")
     assert trained.scene.target is None  # the removed object is background in the training scene
     assert all(not (m == 1).any() for m in trained.scene.masks)
-    scene, original = trained.scene, load_scene(json.loads((stages["run"] / "config.json").read_text())["scene"])
+    scene, original = trained.scene, load_run_scene(stages["run"])
     for i in scene.train:  # the fill inside the object's region, the input image outside it
         name = scene.cameras[i].name
         hole = read_png(stages["holes"] / name, kind="mask") > 0
@@ -130,7 +129,7 @@ def test_direct_inpaints_the_object_region_of_the_input_images_and_completes_fro
     inpainted = stages["work"] / "direct-fsr"
     run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="fsr", source="input",
                               removed=str(stages["removed"]), out=str(inpainted)))
-    scene = load_scene(json.loads((stages["run"] / "config.json").read_text())["scene"])
+    scene = load_run_scene(stages["run"])
     for i, camera in enumerate(scene.cameras):
         region = read_png(stages["removed"] / "masks" / camera.name, kind="mask") > 0
         filled = read_png(inpainted / "images" / camera.name)
@@ -179,10 +178,11 @@ def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_
     # it fits its objective: inside the holes of the reference views, where the masked L1 pulls it, the render
     # moved toward the inpainted images (measured on tiny runs of three seeds: 4.9 vs 6.0, 3.9 vs 4.3, 4.5 vs
     # 8.1 mean absolute error)
-    from engine.finetune import read_holes, reference_views
+    from engine.finetune import reference_views
+    from engine.masks import read_masks
 
-    scene = load_scene(json.loads((stages["run"] / "config.json").read_text())["scene"])
-    views = reference_views(read_holes(scene, stages["holes"], 0), scene.train, refs)
+    scene = load_run_scene(stages["run"])
+    views = reference_views(read_masks(stages["holes"], scene.cameras), scene.train, refs)
     after, unfilled = errors_toward(out / "run", views, stages["holes"], inpainted / "images",
                                     stages["removed"] / "images")
     assert after < unfilled
