@@ -7,7 +7,9 @@ Per scene and seed the shared stages run once (train, remove the scene's target,
 inpainter, and the direct 2D step for `direct`), then each method completes the scene in a cell of its own:
 OUT/work/<scene>/seed<k>/run/complete/<Name>/ with scores.json. Every stage skips work already on disk,
 so a run that was interrupted continues where it stopped, and a finished cell is never run again. A cell
-that fails is recorded with its one-line reason and the others go on.
+that fails is recorded with its one-line reason and the others go on. Runs of different seeds or scenes
+may share one --out at the same time (their work folders differ); `--report-only` then writes the
+tables from every finished cell without running anything.
 
 Writes OUT/results.json and results.csv (one row per cell), and OUT/tables.md: per scene and averaged over
 scenes, the paper's columns (mean over seeds; best in bold), with the removed-but-unfilled scene as the
@@ -104,6 +106,8 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
     name = method_name(kind, inpainter, refs, args.perceptual)
     cell = {"scene": stages.scene.name, "seed": stages.seed, "inpainter": inpainter, "method": name}
     out = stages.run / "complete" / name
+    if args.report_only and not (out / "scores.json").is_file():
+        return {**cell, "status": "not run", "reason": "not finished when the report was written (--report-only)"}
     try:
         if not (out / "scores.json").is_file():
             stages.prepare(inpainter, direct=method == "direct")
@@ -179,6 +183,9 @@ def write_results(cells: list[dict], out: Path) -> None:
     if failed:
         lines += ["## Failed cells", ""] + [f"- {c['scene']} seed {c['seed']} {c['method']}: {c['reason']}"
                                             for c in failed] + [""]
+    missing = [c for c in cells if c["status"] == "not run"]
+    if missing:
+        lines += ["## Cells not run", ""] + [f"- {c['scene']} seed {c['seed']} {c['method']}" for c in missing] + [""]
     reasons: dict[str, set[str]] = {}
     for c in cells:
         for key, reason in (c.get("unavailable") or {}).items():
@@ -220,6 +227,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--dilate", type=int, default=4, help="px added to the masks before inpainting")
     parser.add_argument("--perceptual", default="lpips", help="FT's perceptual term (lpips | l1)")
     parser.add_argument("--device", default="auto")
+    parser.add_argument("--report-only", action="store_true",
+                        help="run nothing: write the tables, chart and pictures from the cells already finished "
+                             "(for example after several runs of single seeds into one --out)")
     args = parser.parse_args(script_args(argv))
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -234,7 +244,7 @@ def main(argv: list[str] | None = None) -> int:
         write_results(cells, out)
         bar = "#" * round(20 * k / len(matrix))
         detail = (f"m-PSNR {_fmt(cell['m_psnr'], 'm_psnr')} dB, {cell['seconds']} s" if cell["status"] == "done"
-                  else f"FAILED: {cell['reason']}")
+                  else f"{cell['status'].upper()}: {cell['reason']}")
         print(f"[{bar:<20}] {k}/{len(matrix)} {scene.name} seed {seed} {cell['method']}: {detail} "
               f"({time.perf_counter() - start:.0f} s here)", flush=True)
     try:  # the PNG once at the end: it takes an engine process

@@ -12,9 +12,9 @@ from engine.image_io import read_png
 REPO = Path(__file__).resolve().parent.parent
 
 
-def benchmark(scene: Path, out: Path) -> subprocess.CompletedProcess:
+def benchmark(scene: Path, out: Path, *extra: str, seeds: tuple[str, ...] = ("0",)) -> subprocess.CompletedProcess:
     args = [sys.executable, str(REPO / "scripts" / "benchmark.py"), "--scenes", str(scene), "--methods", "init",
-            "ft3", "--inpainters", "fsr", "lama", "--seeds", "0", "--out", str(out), "--preset", "tiny", "--steps",
+            "ft3", "--inpainters", "fsr", "lama", "--seeds", *seeds, *extra, "--out", str(out), "--preset", "tiny", "--steps",
             "200", "--complete-steps", "100", "--max-gaussians", "0", "--dilate", "1", "--perceptual", "l1",
             "--device", "cpu"]
     env = {"PATH": "/usr/bin:/bin", "SPLATFILL_ENGINE_PYTHON": sys.executable, "HOME": str(out)}
@@ -45,3 +45,9 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     assert (tmp_path / "tables.md").read_text() == table
     assert (tmp_path / "work" / living_scene.name / "seed0" / "stage_times.json").read_text() == times
     assert "2/4" in second.stdout and "tables:" in second.stdout
+    report = benchmark(living_scene, tmp_path, "--report-only", seeds=("0", "1"))  # runs nothing for seed 1
+    assert report.returncode == 0, report.stderr[-2000:]
+    assert not (tmp_path / "work" / living_scene.name / "seed1").exists()
+    table = (tmp_path / "tables.md").read_text()
+    assert "| Init-fsr |" in table and "## Cells not run" in table and "seed 1 Init-fsr" in table
+    assert "| Init-fsr | 1/2 |" in (tmp_path / "stability.md").read_text()
