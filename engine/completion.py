@@ -15,6 +15,10 @@ metrics of engine.scores on the test views beside the same metrics for the remov
 `direct` (the paper's Init-NanoBanana, made general): the same training on images whose whole object
 region was inpainted in the input images (`inpaint --source input`), with no removal step in between.
 
+`--recolmap` (init and direct; the paper's COLMAP ablation): the training scene's poses and sparse points
+are re-estimated by COLMAP from its training images (engine.recolmap), and the report gives how many views
+registered and their pose error against the original cameras.
+
 `ft` (FT-<inpainter>(3) / FT-<inpainter>(All)): finetune the removed scene into the hole from the same
 training scene, the removed Gaussians frozen (engine.finetune).
 
@@ -41,6 +45,7 @@ from engine.masks import read_masks
 from engine.method_names import METHODS, method_name
 from engine.output_dir import atomic_output_dir, check_new_output
 from engine.progress import emit
+from engine.recolmap import rerun_colmap
 from engine.render_views import render_pictures
 from engine.scene import Scene
 from engine.scores import ScoreConfig, Scorer, Scores
@@ -66,6 +71,7 @@ class CompleteConfig:
     lpips_backbone: str = ""  # see engine.scores.ScoreConfig
     lpips_heads: str = ""
     fid_weights: str = ""
+    recolmap: bool = False  # init, direct: re-estimate poses and points with pycolmap (engine.recolmap)
 
 
 def run_complete(config: CompleteConfig) -> dict:
@@ -80,14 +86,20 @@ def run_complete(config: CompleteConfig) -> dict:
     for path, command in ((removed, "remove"), (inpainted, f"inpaint --inpainter {config.inpainter}{source}")):
         if not path.is_dir():
             raise InputError(f"{path} missing: run `python -m engine {command} --run {root}` first")
+    if config.recolmap and config.method == "ft":
+        raise InputError("--recolmap re-estimates the cameras of a new scene: use it with --method init or direct")
     target = json.loads((removed / "removal.json").read_text()).get("object")
-    name = method_name(config.method, config.inpainter, config.refs, config.perceptual)
+    name = method_name(config.method, config.inpainter, config.refs, config.perceptual, config.recolmap)
     out = Path(config.out) if config.out else root / "complete" / name
     check_new_output(out)
     start = time.perf_counter()
     keep = _object_regions(original.scene, removed, inpainted) if config.method == "init" else None
+    colmap = None
     with atomic_output_dir(out / "scene") as tmp:
         _training_scene(original.scene, inpainted, target and target["id"], tmp, keep)
+        if config.recolmap:
+            train_names = [original.scene.names[i] for i in original.scene.train]
+            colmap = rerun_colmap(tmp, train_names, tmp / "colmap")
     settings = dataclasses.replace(original.config, scene=str(out / "scene"), out=str(out / "run"), seed=config.seed,
                                    device=config.device, steps=config.steps or original.config.steps)
     plugins = None
@@ -104,7 +116,7 @@ def run_complete(config: CompleteConfig) -> dict:
     baseline = score_removed(original.scene, removed, scorer)
     report = {"method": name, "config": dataclasses.asdict(config), "seconds": round(seconds, 1),
               "gaussians": metrics["gaussians"], "scores": scores.values, "unavailable": scores.unavailable,
-              "removed_scores": baseline.values}
+              "removed_scores": baseline.values, "recolmap": colmap}
     partial = out / ".scores.json.tmp"
     partial.write_text(json.dumps(report, indent=1))
     partial.replace(out / "scores.json")  # written last: a folder with scores.json is a finished cell

@@ -15,7 +15,8 @@ Writes OUT/results.json and results.csv (one row per cell), and OUT/tables.md: p
 scenes, the paper's columns (mean over seeds; best in bold), with the removed-but-unfilled scene as the
 first row; OUT/stability.md and OUT/speed_accuracy.svg and .png (scripts/benchmark_report.py); OUT/pictures/
 <scene>.png, the first seed's test views side by side (GT, then each method). Methods: init,
-direct, ft3, ftall. Run time of a method: the stages it needs (Init and FT: train + remove + holes +
+direct, ft3, ftall, and init-colmap (Init on poses COLMAP re-estimates from the inpainted images, the
+paper's ablation). Run time of a method: the stages it needs (Init and FT: train + remove + holes +
 inpaint + complete; Direct: its inpainting + complete).
 """
 
@@ -38,7 +39,8 @@ from benchmark_report import write_reports  # noqa: E402
 from addon.engine_call import EngineError, run_engine  # noqa: E402
 from engine.method_names import method_name  # noqa: E402
 
-METHODS = {"init": ("init", 3), "direct": ("direct", 3), "ft3": ("ft", 3), "ftall": ("ft", 0)}  # -> (method, refs)
+METHODS = {"init": ("init", 3, False), "direct": ("direct", 3, False), "ft3": ("ft", 3, False),
+           "ftall": ("ft", 0, False), "init-colmap": ("init", 3, True)}  # -> (method, refs, recolmap)
 COLUMNS = [("psnr", "PSNR", max), ("m_psnr", "m-PSNR", max), ("ssim", "SSIM", max), ("m_ssim", "m-SSIM", max),
            ("lpips", "LPIPS", min), ("m_lpips", "m-LPIPS", min), ("fid", "FID", min), ("m_fid", "m-FID", min),
            ("kid", "KID", min), ("m_kid", "m-KID", min), ("seconds", "Run time (s)", min),
@@ -102,8 +104,8 @@ def _target(scene: Path) -> str:
 
 
 def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespace) -> dict:
-    kind, refs = METHODS[method]
-    name = method_name(kind, inpainter, refs, args.perceptual)
+    kind, refs, recolmap = METHODS[method]
+    name = method_name(kind, inpainter, refs, args.perceptual, recolmap)
     cell = {"scene": stages.scene.name, "seed": stages.seed, "inpainter": inpainter, "method": name}
     out = stages.run / "complete" / name
     if args.report_only and not (out / "scores.json").is_file():
@@ -115,6 +117,7 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
             options = ["--method", kind, "--inpainter", inpainter, "--seed", str(stages.seed), "--device",
                        args.device, "--refs", str(refs), "--perceptual", args.perceptual]
             options += ["--steps", str(args.complete_steps)] if args.complete_steps else []
+            options += ["--recolmap"] if recolmap else []
             run_engine(["complete", "--run", str(stages.run), "--out", str(out), *options])
         report = json.loads((out / "scores.json").read_text())
     except EngineError as exc:

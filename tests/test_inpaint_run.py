@@ -198,3 +198,19 @@ def test_finetune_without_lpips_weights_says_how_to_go_on(stages, tmp_path, monk
         run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainted=str(fsr_for_ft(stages)),
                                     removed=str(stages["removed"]), holes=str(stages["holes"]),
                                     out=str(tmp_path / "ft"), device="cpu"))
+
+
+def test_recolmap_is_for_new_scenes_and_stops_cleanly_where_colmap_cannot_register(stages, tmp_path):
+    """The tiny scene's 96x72 views hold too few SIFT features for COLMAP: a clear error, no scene folder left
+    half-written (tests/test_recolmap.py checks the poses where COLMAP succeeds)."""
+    from engine.completion import CompleteConfig, run_complete
+    from engine.errors import InputError
+
+    inpainted = fsr_for_ft(stages)
+    common = dict(run=str(stages["run"]), inpainter="fsr", inpainted=str(inpainted), removed=str(stages["removed"]),
+                  device="cpu", recolmap=True)
+    with pytest.raises(InputError, match="--method init or direct"):
+        run_complete(CompleteConfig(method="ft", out=str(tmp_path / "ft"), **common))
+    with pytest.raises(InputError, match="without --recolmap"):
+        run_complete(CompleteConfig(method="init", out=str(tmp_path / "init"), **common))
+    assert not (tmp_path / "init" / "scene").exists()
