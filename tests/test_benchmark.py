@@ -14,8 +14,8 @@ REPO = Path(__file__).resolve().parent.parent
 
 def benchmark(scene: Path, out: Path, *extra: str, seeds: tuple[str, ...] = ("0",)) -> subprocess.CompletedProcess:
     args = [sys.executable, str(REPO / "scripts" / "benchmark.py"), "--scenes", str(scene), "--methods", "init",
-            "ft3", "--inpainters", "fsr", "lama", "--seeds", *seeds, *extra, "--out", str(out), "--preset", "tiny", "--steps",
-            "200", "--complete-steps", "100", "--max-gaussians", "0", "--dilate", "1", "--perceptual", "l1",
+            "ft3", "--inpainters", "fsr", "lama", "--seeds", *seeds, *extra, "--out", str(out), "--preset", "tiny",
+            "--steps", "200", "--complete-steps", "100", "--max-gaussians", "0", "--dilate", "1", "--perceptual", "l1",
             "--device", "cpu"]
     env = {"PATH": "/usr/bin:/bin", "SPLATFILL_ENGINE_PYTHON": sys.executable, "HOME": str(out)}
     return subprocess.run(args, capture_output=True, text=True, env=env, cwd=REPO, timeout=900)

@@ -102,8 +102,8 @@ def _update(priority: np.ndarray, work: np.ndarray, unknown: np.ndarray, confide
     """Recompute `priority` within `reach` of the patch at `centre`, from a rectangle twice as far out."""
     h, w = unknown.shape
     half = patch // 2
-    inner = [(max(x - half - reach, 0), min(x + half + reach + 1, n)) for x, n in zip(centre, (h, w))]
-    outer = [(max(a - reach, 0), min(b + reach, n)) for (a, b), n in zip(inner, (h, w))]
+    inner = [(max(x - half - reach, 0), min(x + half + reach + 1, n)) for x, n in zip(centre, (h, w), strict=True)]
+    outer = [(max(a - reach, 0), min(b + reach, n)) for (a, b), n in zip(inner, (h, w), strict=True)]
     o = tuple(slice(a, b) for a, b in outer)
     local = _priority(work[o], unknown[o], confidence[o], patch)
     (ia, ib), (ja, jb) = inner
