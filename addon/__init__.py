@@ -1,4 +1,4 @@
-"""Blender-side glue: preferences, and (later) conversions between Blender data and the engine's files.
+"""Blender-side glue: preferences, running the engine, and conversions between Blender data and the engine's files.
 
 Never imports torch. Modules here that need bpy import it themselves, so that plain helpers such as
 engine_call stay usable from scripts run with any Python.

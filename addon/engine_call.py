@@ -2,16 +2,20 @@
 
 Blender's Python never imports torch: the engine runs as a subprocess of the environment the user
 points at (SPLATFILL_ENGINE_PYTHON, default the repo's .venv) and reports progress as JSON lines.
-This is the blocking form used by scripts and `blender -b`; the add-on's modal operators wrap it later.
+run_engine is the blocking form used by scripts and `blender -b`; the add-on's modal operators poll an
+EngineJob instead, so the UI never waits on the engine.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import queue
+import signal
 import subprocess
 import sys
 import tempfile
+import threading
 from collections.abc import Callable
 from pathlib import Path
 
@@ -34,27 +38,80 @@ def engine_python() -> Path:
     return path
 
 
-def run_engine(args: list[str], on_progress: Callable[[dict], None] | None = None) -> list[dict]:
-    """Run `python -m engine *args` to completion; returns its JSON records, raises EngineError on failure."""
+def engine_env() -> dict[str, str]:
     env = dict(os.environ, SPLATFILL_PROGRESS="json", PYTHONUNBUFFERED="1")
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO_ROOT), env.get("PYTHONPATH")]))
-    records = []
-    with tempfile.TemporaryFile(mode="w+") as errors:  # a file, so a chatty stderr cannot block the pipe
-        proc = subprocess.Popen([str(engine_python()), "-m", "engine", *args], stdout=subprocess.PIPE,
-                                stderr=errors, text=True, env=env)
-        assert proc.stdout is not None
-        for line in proc.stdout:
+    return env
+
+
+class EngineJob:
+    """One engine subprocess in a session of its own (so a cancel reaches its workers too); a reader thread
+    queues its JSON lines, which the caller drains with poll() from its own thread (Blender's main thread,
+    which alone may touch bpy)."""
+
+    def __init__(self, args: list[str]) -> None:
+        self.args = args
+        self.errors = tempfile.TemporaryFile(mode="w+")  # a file, so a chatty stderr cannot block the pipe
+        self.proc = subprocess.Popen([str(engine_python()), "-m", "engine", *args], stdout=subprocess.PIPE,
+                                     stderr=self.errors, text=True, env=engine_env(), start_new_session=True)
+        self.lines: queue.Queue[dict] = queue.Queue()
+        self.records: list[dict] = []
+        self.reader = threading.Thread(target=self._read, daemon=True)
+        self.reader.start()
+
+    def _read(self) -> None:
+        assert self.proc.stdout is not None
+        for line in self.proc.stdout:
             try:
-                record = json.loads(line)
+                self.lines.put(json.loads(line))
             except json.JSONDecodeError:
                 continue  # stray prints from libraries are not part of the stream
-            records.append(record)
+
+    def poll(self, timeout: float = 0.0) -> list[dict]:
+        """The records that arrived since the last call (waiting up to `timeout` s for the first)."""
+        new = []
+        try:
+            new.append(self.lines.get(timeout=timeout) if timeout else self.lines.get_nowait())
+            while True:
+                new.append(self.lines.get_nowait())
+        except queue.Empty:
+            pass
+        self.records += new
+        return new
+
+    @property
+    def finished(self) -> bool:
+        return self.proc.poll() is not None and not self.reader.is_alive() and self.lines.empty()
+
+    def cancel(self) -> None:
+        """SIGTERM to the engine's process group: training checkpoints and stops; other stages stop before
+        their output folder is renamed into place, so nothing half-written is left."""
+        if self.proc.poll() is None:
+            if hasattr(os, "killpg"):
+                os.killpg(self.proc.pid, signal.SIGTERM)
+            else:
+                self.proc.terminate()
+
+    def result(self) -> list[dict]:
+        """Every record, once the process ended; EngineError with its one-line message if it failed."""
+        self.proc.wait()
+        self.reader.join()
+        self.poll()
+        self.errors.seek(0)
+        stderr = self.errors.read()
+        self.errors.close()
+        if self.proc.returncode != 0:
+            lines = [ln for ln in stderr.strip().splitlines() if ln.strip()]
+            raise EngineError(lines[-1] if lines else f"engine exited with status {self.proc.returncode}")
+        return self.records
+
+
+def run_engine(args: list[str], on_progress: Callable[[dict], None] | None = None) -> list[dict]:
+    """Run `python -m engine *args` to completion (scripts, and Blender in the background, where timers
+    never fire); returns its JSON records, raises EngineError on failure."""
+    job = EngineJob(args)
+    while not job.finished:
+        for record in job.poll(timeout=0.1):
             if on_progress is not None:
                 on_progress(record)
-        proc.wait()
-        errors.seek(0)
-        stderr = errors.read()
-    if proc.returncode != 0:
-        lines = [ln for ln in stderr.strip().splitlines() if ln.strip()]
-        raise EngineError(lines[-1] if lines else f"engine exited with status {proc.returncode}")
-    return records
+    return job.result()

@@ -1,4 +1,8 @@
-"""The extension's preferences: where the engine's Python lives and which device it uses."""
+"""The extension's preferences: the engine's Python, its device, where model weights are, the Nano Banana key.
+
+The key is an add-on preference (saved in Blender's userpref.blend, never in a scene's .blend) or the
+GEMINI_API_KEY environment variable; it reaches the engine only through its environment, never its
+arguments (which a log or the process list would show)."""
 
 from __future__ import annotations
 
@@ -24,11 +28,22 @@ class SplatfillPreferences(bpy.types.AddonPreferences):
         default="cuda",
     )
 
+    lpips_backbone: bpy.props.StringProperty(name="LPIPS backbone", subtype="FILE_PATH", default="",
+                                             description="alexnet-owt-7be5be79.pth (else LPIPS_BACKBONE or n/a)")
+    fid_weights: bpy.props.StringProperty(name="FID Inception", subtype="FILE_PATH", default="",
+                                          description="pt_inception-2015-12-05-6726825d.pth (else FID_INCEPTION)")
+    lama_model: bpy.props.StringProperty(name="LaMa model", subtype="FILE_PATH", default="",
+                                         description="big-lama TorchScript file (else LAMA_MODEL)")
+    nanobanana_key: bpy.props.StringProperty(name="Nano Banana key", subtype="PASSWORD", default="",
+                                             description="Gemini API key; empty: GEMINI_API_KEY from the environment")
+
     def draw(self, context: bpy.types.Context) -> None:
         layout = self.layout
         layout.prop(self, "engine_python")
         layout.label(text=f"Default: {REPO_ROOT / '.venv'}")
         layout.prop(self, "device")
+        for name in ("lpips_backbone", "fid_weights", "lama_model", "nanobanana_key"):
+            layout.prop(self, name)
 
 
 def preferences() -> SplatfillPreferences | None:

@@ -89,13 +89,35 @@ def _compare(args: argparse.Namespace) -> None:
         if not sep:
             raise InputError(f"column {column!r} must read LABEL=DIR")
         columns.append((name, Path(folder)))
-    print(f"wrote {compare_sheet(columns, args.views, Path(args.out))}", file=sys.stderr)
+    if args.per_view:
+        from engine.compare_sheet import compare_frames
+        from engine.progress import emit
+
+        emit("done", stage="compare", out=str(compare_frames(columns, args.views, Path(args.out))))
+    else:
+        print(f"wrote {compare_sheet(columns, args.views, Path(args.out))}", file=sys.stderr)
 
 
 def _chart(args: argparse.Namespace) -> None:
     from engine.chart_png import chart_png
 
     print(f"wrote {chart_png(Path(args.spec), Path(args.out))}", file=sys.stderr)
+
+
+def _cameras(args: argparse.Namespace) -> None:
+    from engine.camera_json import write_cameras_json
+    from engine.colmap_model import find_model_dir, read_model
+    from engine.progress import emit
+
+    scene = Path(args.scene)
+    path = write_cameras_json(read_model(find_model_dir(scene)).cameras, Path(args.out))
+    emit("done", stage="cameras", out=str(path))
+
+
+def _render(args: argparse.Namespace) -> None:
+    from engine.render_views import render_to_folder
+
+    print(f"wrote {render_to_folder(Path(args.ply), Path(args.cameras), Path(args.out), args.device)}", file=sys.stderr)
 
 
 def _version(args: argparse.Namespace) -> None:
@@ -149,12 +171,23 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("compare", help="side-by-side picture: a row per view, a column per folder of renders")
     p.add_argument("--columns", nargs="+", required=True, help="LABEL=DIR, in order")
     p.add_argument("--views", nargs="+", required=True, help="file names present in the folders")
-    p.add_argument("--out", required=True, help="PNG to write")
+    p.add_argument("--out", required=True, help="PNG to write (--per-view: a new folder)")
+    p.add_argument("--per-view", action="store_true", help="one labelled PNG per view into the folder --out")
     p.set_defaults(handler=_compare)
     p = sub.add_parser("chart", help="draw a chart's items (the benchmark's speed_accuracy.json) as a PNG")
     p.add_argument("--spec", required=True, help="JSON with width, height and items")
     p.add_argument("--out", required=True, help="PNG to write")
     p.set_defaults(handler=_chart)
+    p = sub.add_parser("cameras", help="a scene's COLMAP cameras as cameras.json (for Blender-side code)")
+    p.add_argument("--scene", required=True)
+    p.add_argument("--out", required=True, help="JSON file to write")
+    p.set_defaults(handler=_cameras)
+    p = sub.add_parser("render", help="render a .ply from the cameras of a cameras.json into a folder of PNGs")
+    p.add_argument("--ply", required=True)
+    p.add_argument("--cameras", required=True)
+    p.add_argument("--out", required=True, help="new folder for the PNGs")
+    p.add_argument("--device", default="auto")
+    p.set_defaults(handler=_render)
     p = sub.add_parser("version", help="engine, torch and CUDA versions (the add-on's health check)")
     p.set_defaults(handler=_version)
     return parser

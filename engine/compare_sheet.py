@@ -15,20 +15,37 @@ from engine.image_io import read_png, write_png
 from engine.preview import label
 
 
-def compare_sheet(columns: list[tuple[str, Path]], views: list[str], out: Path) -> Path:
-    """Write the sheet to `out`; a view missing from a column is drawn black with 'missing'."""
+def _check(columns: list[tuple[str, Path]], views: list[str]) -> None:
     if not columns or not views:
         raise InputError("compare needs at least one column LABEL=DIR and one view")
     for _, folder in columns:
         if not folder.is_dir():
             raise InputError(f"{folder} is not a folder of renders")
-    rows = []
-    for view in views:
-        first = next((read_png(f / view) for _, f in columns if (f / view).is_file()), None)
-        if first is None:
-            raise InputError(f"view {view} is in none of the columns' folders")
-        cells = [label(read_png(f / view), f"{view} {name}") if (f / view).is_file()
-                 else label(np.zeros_like(first), f"{name}: missing") for name, f in columns]
-        rows.append(np.concatenate(cells, axis=1))
-    write_png(out, np.concatenate(rows, axis=0))
+
+
+def _row(columns: list[tuple[str, Path]], view: str, with_view: bool) -> np.ndarray:
+    """One view across the columns, each labelled; a view missing from a column is black with 'missing'."""
+    first = next((read_png(f / view) for _, f in columns if (f / view).is_file()), None)
+    if first is None:
+        raise InputError(f"view {view} is in none of the columns' folders")
+    cells = [label(read_png(f / view), f"{view} {name}" if with_view else name) if (f / view).is_file()
+             else label(np.zeros_like(first), f"{name}: missing") for name, f in columns]
+    return np.concatenate(cells, axis=1)
+
+
+def compare_sheet(columns: list[tuple[str, Path]], views: list[str], out: Path) -> Path:
+    """Write the sheet (a row per view) to `out`."""
+    _check(columns, views)
+    write_png(out, np.concatenate([_row(columns, view, True) for view in views], axis=0))
+    return out
+
+
+def compare_frames(columns: list[tuple[str, Path]], views: list[str], out: Path) -> Path:
+    """One side-by-side PNG per view into the new folder `out` (a turntable's frames), written atomically."""
+    from engine.output_dir import atomic_output_dir
+
+    _check(columns, views)
+    with atomic_output_dir(out) as tmp:
+        for view in views:
+            write_png(tmp / view, _row(columns, view, False))
     return out

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import torch
@@ -34,3 +35,25 @@ def render_pictures(gaussians: Gaussians, cameras: list[Camera], sh_degree: int,
         rgb = (out.rgb.clamp(0, 1) * 255 + 0.5).to(torch.uint8)
         labels = out.logits.argmax(-1).to(torch.uint8).cpu().numpy() if out.logits is not None else None
         yield ViewPicture(rgb=rgb.cpu().numpy(), depth=depth.float().cpu().numpy(), labels=labels)
+
+
+def render_to_folder(ply: Path, cameras_json: Path, out: Path, device: str = "auto") -> Path:
+    """Render a .ply from every camera of a cameras.json into out/<camera name> (PNG), written atomically:
+    the turntable's frames and any other camera path a user brings."""
+    from engine.camera_json import read_cameras_json
+    from engine.image_io import write_png
+    from engine.output_dir import atomic_output_dir
+    from engine.ply_io import load_ply
+    from engine.progress import Progress, emit
+    from engine.training import pick_device
+
+    gaussians, cameras = load_ply(ply), read_cameras_json(cameras_json)
+    sh_degree = round((gaussians["shN"].shape[1] + 1) ** 0.5) - 1
+    with atomic_output_dir(out) as tmp:
+        progress = Progress("render", len(cameras))
+        for k, picture in enumerate(render_pictures(gaussians, cameras, sh_degree, pick_device(device))):
+            write_png(tmp / cameras[k].name, picture.rgb)
+            progress.update(k + 1)
+        progress.close()
+    emit("done", stage="render", out=str(out), views=len(cameras))
+    return Path(out)

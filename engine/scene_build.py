@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from engine.camera import Camera, backproject, pixel_grid, project
+from engine.camera_json import read_cameras_json
 from engine.colmap_model import ColmapModel, write_model
 from engine.errors import InputError
 from engine.image_io import linear_to_srgb8, read_exr_channels, write_depth, write_png
@@ -59,17 +60,6 @@ def read_render(path: Path) -> RenderPass:
     depth = np.where(depth >= BACKGROUND_DEPTH, np.inf, depth).astype(np.float32)
     ids = np.rint(find("Object Index.X", "IndexOB.X")).clip(0, 255).astype(np.uint8)
     return RenderPass(linear_to_srgb8(rgb), depth, ids)
-
-
-def read_cameras_json(path: Path) -> list[Camera]:
-    try:
-        entries = json.loads(path.read_text())
-        return [Camera(name=e["name"], width=int(e["width"]), height=int(e["height"]), fx=float(e["fx"]),
-                       fy=float(e["fy"]), cx=float(e["cx"]), cy=float(e["cy"]),
-                       R=np.array(e["R"], dtype=np.float64), t=np.array(e["t"], dtype=np.float64))
-                for e in entries]
-    except (OSError, ValueError, KeyError, TypeError) as exc:
-        raise InputError(f"cannot read cameras from {path} ({exc}); re-run make_scene.py") from exc
 
 
 def build_scene(renders: Path, out: Path, config: BuildConfig = BuildConfig()) -> Path:

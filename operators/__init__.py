@@ -3,13 +3,17 @@
 from __future__ import annotations
 
 
-def register() -> None:
-    from . import check_engine
+def _modules():
+    from . import check_engine, panel, pipeline
 
-    check_engine.register()
+    return (check_engine, pipeline, panel)
+
+
+def register() -> None:
+    for module in _modules():
+        module.register()
 
 
 def unregister() -> None:
-    from . import check_engine
-
-    check_engine.unregister()
+    for module in reversed(_modules()):
+        module.unregister()

@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import os
+import sys
 import tempfile
+from pathlib import Path
 
 os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="splatfill-blender-user-"))
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repo: addon/ and scripts/ import as packages
 import bpy  # noqa: E402
 import pytest  # noqa: E402
 

@@ -1,0 +1,112 @@
+"""The pattern every engine operator shares: start the engine as a subprocess, show its progress, let Esc
+cancel it, report its error, and hand its output to the operator when it finishes.
+
+In the UI the operator is modal: a 0.2 s timer drains the job's JSON lines into Blender's progress bar and
+the status bar, so the UI never blocks. Under `blender -b` timers never fire, so the same operator runs
+the engine synchronously. Results are imported in `finish` on the main thread; the operator's UNDO flag
+makes the import one undo step.
+"""
+
+from __future__ import annotations
+
+import os
+
+import bpy
+
+from ..addon.engine_call import EngineError, EngineJob, run_engine
+from ..addon.preferences import preferences
+
+
+class UserError(Exception):
+    """Something the user must fix before the engine can run (nothing selected, no run folder)."""
+
+
+def engine_settings() -> tuple[str, str]:
+    """The preferences' device, and their engine Python exported for engine_call (empty: the default)."""
+    prefs = preferences()
+    if prefs is None:  # registered without the extension system (scripts, tests): the engine picks
+        return "auto", ""
+    if prefs.engine_python:
+        os.environ["SPLATFILL_ENGINE_PYTHON"] = bpy.path.abspath(prefs.engine_python)
+    for key, value in (("LPIPS_BACKBONE", prefs.lpips_backbone), ("FID_INCEPTION", prefs.fid_weights),
+                       ("LAMA_MODEL", prefs.lama_model)):
+        if value:
+            os.environ[key] = bpy.path.abspath(value)
+    if prefs.nanobanana_key:  # handed to the engine's environment only, never stored in a .blend or a log
+        os.environ["GEMINI_API_KEY"] = prefs.nanobanana_key
+    return prefs.device, prefs.engine_python
+
+
+class EngineOperator:
+    """Mix-in for bpy.types.Operator subclasses: define engine_args() and finish()."""
+
+    bl_options = {"REGISTER", "UNDO"}
+    _job: EngineJob | None = None
+    _timer = None
+
+    def engine_args(self, context: bpy.types.Context, device: str) -> list[str]:
+        raise NotImplementedError
+
+    def finish(self, context: bpy.types.Context, records: list[dict]) -> str:
+        """Import what the engine wrote; returns the line to report."""
+        raise NotImplementedError
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        try:
+            device, _ = engine_settings()
+            args = self.engine_args(context, device)
+            if bpy.app.background:
+                return self._done(context, run_engine(args))
+            self._job = EngineJob(args)
+        except (UserError, EngineError) as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        wm = context.window_manager
+        wm.progress_begin(0, 1000)
+        self._timer = wm.event_timer_add(0.2, window=context.window)
+        wm.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
+        job = self._job
+        if event.type == "ESC" and event.value == "PRESS":
+            job.cancel()
+            context.workspace.status_text_set("splatfill: cancelling (the engine saves its progress)...")
+            return {"RUNNING_MODAL"}
+        if event.type != "TIMER":
+            return {"PASS_THROUGH"}
+        for record in job.poll():
+            if "step" in record and record.get("total"):
+                context.window_manager.progress_update(int(1000 * record["step"] / record["total"]))
+                context.workspace.status_text_set(f"splatfill {record['stage']}: {record['step']}/{record['total']}"
+                                                  "  (Esc cancels)")
+        if not job.finished:
+            return {"RUNNING_MODAL"}
+        self._end(context)
+        try:
+            return self._done(context, job.result())
+        except EngineError as exc:
+            self.report({"ERROR"}, f"splatfill: {exc}")
+            return {"CANCELLED"}
+
+    def _end(self, context: bpy.types.Context) -> None:
+        wm = context.window_manager
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+        context.workspace.status_text_set(None)
+
+    def _done(self, context: bpy.types.Context, records: list[dict]) -> set[str]:
+        try:
+            self.report({"INFO"}, self.finish(context, records))
+        except UserError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        return {"FINISHED"}
+
+
+def done_record(records: list[dict], stage: str) -> dict:
+    """The engine's {"event": "done", "stage": stage, ...} line."""
+    for record in reversed(records):
+        if record.get("event") == "done" and record.get("stage") == stage:
+            return record
+    raise UserError(f"the engine finished {stage} without reporting its output")

@@ -1,0 +1,36 @@
+"""The sidebar panel (3D View > N > splatfill): the pipeline's operators in order, and the active run."""
+
+from __future__ import annotations
+
+import bpy
+
+
+class SPLATFILL_PT_pipeline(bpy.types.Panel):
+    bl_label = "splatfill"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "splatfill"
+
+    def draw(self, context: bpy.types.Context) -> None:
+        layout = self.layout
+        col = layout.column(align=True)
+        col.operator("splatfill.import_colmap", icon="CAMERA_DATA")
+        col.operator("splatfill.import_splats", icon="IMPORT")
+        col.operator("splatfill.train", icon="PLAY")
+        col = layout.column(align=True)
+        col.operator("splatfill.remove_selected", icon="TRASH")
+        col.operator("splatfill.hole_masks", icon="MOD_MASK")
+        col.operator("splatfill.inpaint", icon="BRUSH_DATA")
+        col.operator("splatfill.complete", icon="CHECKMARK")
+        col.operator("splatfill.check_engine", icon="CONSOLE")
+        obj = context.active_object
+        if obj is not None and "splatfill_group" in obj:
+            layout.label(text=f"{obj.name}: group {obj['splatfill_group']}, {len(obj.data.vertices):,} Gaussians")
+
+
+def register() -> None:
+    bpy.utils.register_class(SPLATFILL_PT_pipeline)
+
+
+def unregister() -> None:
+    bpy.utils.unregister_class(SPLATFILL_PT_pipeline)

@@ -1,0 +1,223 @@
+"""The pipeline as Blender operators: import, Train / Group, Remove Selected, Hole Masks, Inpaint, Complete.
+
+Each is thin: it reads the selection and its properties, names a new output folder (never over an input),
+runs one engine command through EngineOperator, and imports what the engine wrote into a new collection
+beside the original, which stays untouched. The run a proxy belongs to travels as custom properties on its
+collection: splatfill_run (the training run), and for later stages splatfill_removed, splatfill_holes,
+splatfill_inpainted.
+"""
+
+from __future__ import annotations
+
+import json
+import tempfile
+import time
+from pathlib import Path
+
+import bpy
+
+from ..addon.import_scene import import_cameras, import_splats
+from .engine_operator import EngineOperator, UserError, done_record
+
+INPAINTERS = [(n, n, f"the {n} inpainter") for n in
+              ("telea", "navier-stokes", "fsr", "shiftmap", "exemplar", "lama", "diffusion", "nanobanana")]
+
+
+def _stamp() -> str:
+    return time.strftime("%Y%m%d-%H%M%S")
+
+
+def _new_collection(name: str, **props: str) -> bpy.types.Collection:
+    collection = bpy.data.collections.new(name)
+    bpy.context.scene.collection.children.link(collection)
+    for key, value in props.items():
+        collection[key] = value
+    return collection
+
+
+def _run_collection(context: bpy.types.Context, needs: str = "splatfill_run") -> bpy.types.Collection:
+    """The collection of the active proxy (or the active collection), which must carry `needs`."""
+    obj = context.active_object
+    candidates = list(obj.users_collection) if obj is not None else []
+    candidates.append(context.collection)
+    for collection in candidates:
+        if collection is not None and needs in collection:
+            return collection
+    step = {"splatfill_run": "import or train a run", "splatfill_removed": "run Remove Selected",
+            "splatfill_holes": "run Hole Masks", "splatfill_inpainted": "run Inpaint"}[needs]
+    raise UserError(f"select a splatfill proxy whose collection has {needs}: {step} first")
+
+
+def import_run_ply(ply: Path, name: str, **props: str) -> bpy.types.Collection:
+    collection = _new_collection(name, **props)
+    import_splats(ply, collection)
+    return collection
+
+
+class SPLATFILL_OT_import_colmap(EngineOperator, bpy.types.Operator):
+    bl_idname = "splatfill.import_colmap"
+    bl_label = "Import COLMAP Cameras"
+    bl_description = "Import a COLMAP scene folder's cameras (sparse/0) as Blender cameras"
+    directory: bpy.props.StringProperty(subtype="DIR_PATH")
+
+    def invoke(self, context, event):
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+    def engine_args(self, context, device):
+        self._json = Path(tempfile.mkdtemp(prefix="splatfill-cameras-")) / "cameras.json"
+        return ["cameras", "--scene", bpy.path.abspath(self.directory), "--out", str(self._json)]
+
+    def finish(self, context, records):
+        scene = Path(bpy.path.abspath(self.directory))
+        records = json.loads(self._json.read_text())
+        cameras = import_cameras(records, _new_collection(f"{scene.name} cameras", splatfill_scene=str(scene)))
+        return f"imported {len(cameras)} cameras from {scene}"
+
+
+class SPLATFILL_OT_import_splats(bpy.types.Operator):
+    bl_idname = "splatfill.import_splats"
+    bl_label = "Import Gaussian Splats (.ply)"
+    bl_description = "Import a 3DGS .ply as point-instanced proxies, one object per identity group"
+    bl_options = {"REGISTER", "UNDO"}
+    filepath: bpy.props.StringProperty(subtype="FILE_PATH")
+    filter_glob: bpy.props.StringProperty(default="*.ply", options={"HIDDEN"})
+
+    def invoke(self, context, event):
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+    def execute(self, context):
+        from ..addon.splat_ply import SplatFileError
+
+        ply = Path(bpy.path.abspath(self.filepath))
+        run = {"splatfill_run": str(ply.parent)} if (ply.parent / "config.json").is_file() else {}
+        try:
+            start = time.perf_counter()
+            collection = import_run_ply(ply, ply.parent.name, **run)
+        except SplatFileError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"imported {len(collection.objects)} objects from {ply} in "
+                              f"{time.perf_counter() - start:.1f} s")
+        return {"FINISHED"}
+
+
+class SPLATFILL_OT_train(EngineOperator, bpy.types.Operator):
+    bl_idname = "splatfill.train"
+    bl_label = "Train / Group"
+    bl_description = "Train a Gaussian Grouping scene on a scene folder in the engine, then import it"
+    scene: bpy.props.StringProperty(name="Scene folder", subtype="DIR_PATH")
+    out: bpy.props.StringProperty(name="Run folder", subtype="DIR_PATH", description="empty: beside the scene")
+    steps: bpy.props.IntProperty(name="Steps", default=0, min=0, description="0: the preset's")
+    preset: bpy.props.EnumProperty(name="Preset", items=[("default", "default", ""), ("tiny", "tiny", "")])
+
+    def engine_args(self, context, device):
+        scene = Path(bpy.path.abspath(self.scene))
+        self._out = Path(bpy.path.abspath(self.out)) if self.out else scene.parent / f"{scene.name}-run-{_stamp()}"
+        args = ["train", "--scene", str(scene), "--out", str(self._out), "--preset", self.preset, "--device", device]
+        return args + (["--steps", str(self.steps)] if self.steps else [])
+
+    def finish(self, context, records):
+        import_run_ply(self._out / "point_cloud.ply", self._out.name, splatfill_run=str(self._out))
+        return f"trained {self._out}"
+
+
+class SPLATFILL_OT_remove_selected(EngineOperator, bpy.types.Operator):
+    bl_idname = "splatfill.remove_selected"
+    bl_label = "Remove Selected"
+    bl_description = "Remove the object selected in the Outliner from its run, in the engine; import the result"
+
+    def engine_args(self, context, device):
+        obj = context.active_object
+        if obj is None or "splatfill_group" not in obj:
+            raise UserError("select one of a splatfill scene's objects in the Outliner first")
+        run = Path(_run_collection(context)["splatfill_run"])
+        self._name = obj.name
+        self._run = run
+        self._out = run / f"removed-{bpy.path.clean_name(obj.name)}-{_stamp()}"
+        return ["remove", "--run", str(run), "--object", str(obj["splatfill_group"]), "--out", str(self._out),
+                "--device", device]
+
+    def finish(self, context, records):
+        done = done_record(records, "removal")
+        import_run_ply(self._out / "point_cloud.ply", f"{self._run.name} without {self._name}",
+                       splatfill_run=str(self._run), splatfill_removed=str(self._out))
+        return f"removed {done.get('removed')} Gaussians of {self._name}: {self._out}"
+
+
+class SPLATFILL_OT_hole_masks(EngineOperator, bpy.types.Operator):
+    bl_idname = "splatfill.hole_masks"
+    bl_label = "Hole Masks"
+    bl_description = "Depth-guided masks of what no view saw behind the removed object"
+
+    def engine_args(self, context, device):
+        self._collection = _run_collection(context, "splatfill_removed")
+        removed = Path(self._collection["splatfill_removed"])
+        self._out = removed.parent / f"holes-{removed.name}"
+        return ["holes", "--run", self._collection["splatfill_run"], "--removed", str(removed), "--out",
+                str(self._out), "--device", device]
+
+    def finish(self, context, records):
+        self._collection["splatfill_holes"] = str(self._out)
+        iou = done_record(records, "holes").get("mean_iou_vs_truth")
+        return f"hole masks in {self._out}" + (f" (IoU against the scene's holes {iou:.2f})" if iou else "")
+
+
+class SPLATFILL_OT_inpaint(EngineOperator, bpy.types.Operator):
+    bl_idname = "splatfill.inpaint"
+    bl_label = "Inpaint"
+    bl_description = "Fill the hole masks of the removed renders in 2D (RGB and depth)"
+    inpainter: bpy.props.EnumProperty(name="Inpainter", items=INPAINTERS, default="telea")
+
+    def engine_args(self, context, device):
+        self._collection = _run_collection(context, "splatfill_holes")
+        removed = Path(self._collection["splatfill_removed"])
+        self._out = removed.parent / f"inpainted-{self.inpainter}-{removed.name}"
+        return ["inpaint", "--run", self._collection["splatfill_run"], "--removed", str(removed), "--holes",
+                self._collection["splatfill_holes"], "--inpainter", self.inpainter, "--out", str(self._out)]
+
+    def finish(self, context, records):
+        self._collection["splatfill_inpainted"] = str(self._out)
+        self._collection["splatfill_inpainter"] = self.inpainter
+        return f"inpainted views in {self._out}"
+
+
+class SPLATFILL_OT_complete(EngineOperator, bpy.types.Operator):
+    bl_idname = "splatfill.complete"
+    bl_label = "Complete"
+    bl_description = "Fill the hole in 3D (FT or Init) from the inpainted views, score it, import the result"
+    method: bpy.props.EnumProperty(name="Method", items=[("ft", "FT", "finetune the removed scene"),
+                                                         ("init", "Init", "train a new scene")], default="ft")
+    refs: bpy.props.IntProperty(name="Reference views", default=3, min=0, description="FT: 0 = all")
+    perceptual: bpy.props.EnumProperty(name="Perceptual term", items=[("lpips", "LPIPS", ""), ("l1", "L1", "")],
+                                       default="lpips")
+
+    def engine_args(self, context, device):
+        self._collection = c = _run_collection(context, "splatfill_inpainted")
+        removed = Path(c["splatfill_removed"])
+        self._out = removed.parent / f"complete-{self.method}-{removed.name}-{_stamp()}"
+        return ["complete", "--run", c["splatfill_run"], "--removed", str(removed), "--holes", c["splatfill_holes"],
+                "--inpainted", c["splatfill_inpainted"], "--inpainter", c["splatfill_inpainter"], "--method",
+                self.method, "--refs", str(self.refs), "--perceptual", self.perceptual, "--out", str(self._out),
+                "--device", device]
+
+    def finish(self, context, records):
+        done = done_record(records, "complete")
+        import_run_ply(self._out / "run" / "point_cloud.ply", done["method"], splatfill_run=str(self._out / "run"),
+                       splatfill_scores=str(self._out / "scores.json"))
+        return f"{done['method']}: m-PSNR {done.get('m_psnr')} dB, {self._out}"
+
+
+CLASSES = (SPLATFILL_OT_import_colmap, SPLATFILL_OT_import_splats, SPLATFILL_OT_train,
+           SPLATFILL_OT_remove_selected, SPLATFILL_OT_hole_masks, SPLATFILL_OT_inpaint, SPLATFILL_OT_complete)
+
+
+def register() -> None:
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+
+
+def unregister() -> None:
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,116 @@
+"""Importing into Blender: cameras that project like COLMAP's, splats as one proxy object per identity."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import bpy
+import numpy as np
+import pytest
+from bpy_extras.object_utils import world_to_camera_view
+from mathutils import Vector
+
+from addon.cameras import colmap_record
+from addon.import_scene import import_cameras, import_splats
+from addon.splat_ply import SplatFileError, read_splats
+
+# landscape, portrait, fx != fy, and principal points off centre: the cases a 36 mm shortcut gets wrong
+INTRINSICS = [(640, 480, 500.0, 500.0, 320.0, 240.0), (480, 640, 520.0, 520.0, 250.0, 300.0),
+              (640, 480, 600.0, 540.0, 300.5, 260.0), (300, 500, 410.0, 455.0, 140.0, 270.0)]
+
+
+def _rotation(rng: np.random.Generator) -> np.ndarray:
+    q = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+    return q * np.sign(np.linalg.det(q))
+
+
+def test_imported_cameras_project_known_points_like_colmap():
+    rng = np.random.default_rng(0)
+    records = []
+    for k, (w, h, fx, fy, cx, cy) in enumerate(INTRINSICS):
+        R = _rotation(rng)
+        records.append({"name": f"{k:04d}.png", "width": w, "height": h, "fx": fx, "fy": fy, "cx": cx, "cy": cy,
+                        "R": R.tolist(), "t": (rng.normal(size=3) + [0, 0, 6]).tolist()})
+    collection = bpy.data.collections.new("cameras")
+    bpy.context.scene.collection.children.link(collection)
+    cameras = import_cameras(records, collection)
+    scene = bpy.context.scene
+    worst = 0.0
+    for r, obj in zip(records, cameras, strict=True):
+        scene.render.resolution_x, scene.render.resolution_y = obj["splatfill_resolution"]
+        scene.render.pixel_aspect_x, scene.render.pixel_aspect_y = obj["splatfill_pixel_aspect"]
+        R, t = np.array(r["R"]), np.array(r["t"])
+        cam_points = rng.uniform([-1, -1, 3], [1, 1, 9], size=(20, 3))  # in front of the camera
+        world = (cam_points - t) @ R
+        for p_cam, p_world in zip(cam_points, world, strict=True):
+            u = r["fx"] * p_cam[0] / p_cam[2] + r["cx"]
+            v = r["fy"] * p_cam[1] / p_cam[2] + r["cy"]
+            ndc = world_to_camera_view(scene, obj, Vector(p_world))
+            worst = max(worst, abs(ndc.x * r["width"] - u), abs((1 - ndc.y) * r["height"] - v))
+        back = colmap_record(r["name"], np.array(obj.matrix_world), obj.data.lens, obj.data.sensor_width,
+                             obj.data.sensor_height, obj.data.sensor_fit, obj.data.shift_x, obj.data.shift_y,
+                             r["width"], r["height"], tuple(obj["splatfill_pixel_aspect"]))
+        for key in ("fx", "fy", "cx", "cy"):
+            assert back[key] == pytest.approx(r[key], abs=1e-3)
+        assert np.allclose(back["R"], R, atol=1e-5) and np.allclose(back["t"], t, atol=1e-4)
+    assert worst < 0.5, f"worst reprojection error {worst:.3f} px"
+
+
+def write_splat_ply(path: Path, positions: np.ndarray, identity: np.ndarray) -> None:
+    """A 3DGS .ply written here with numpy (the engine's writer needs torch): degree-0 SH and identities."""
+    n = len(positions)
+    names = ["x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1",
+             "scale_2", "rot_0", "rot_1", "rot_2", "rot_3"] + [f"obj_dc_{i}" for i in range(16)]
+    data = np.zeros(n, dtype=[(name, "<f4") for name in names])
+    for i, axis in enumerate("xyz"):
+        data[axis] = positions[:, i]
+    data["f_dc_0"], data["opacity"], data["rot_0"] = 1.0, 2.0, 1.0
+    data["scale_0"] = data["scale_1"] = data["scale_2"] = np.log(0.01)
+    for i in range(16):
+        data[f"obj_dc_{i}"] = identity[:, i]
+    header = f"ply\nformat binary_little_endian 1.0\nelement vertex {n}\n"
+    header += "".join(f"property float {name}\n" for name in names) + "end_header\n"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_bytes(header.encode() + data.tobytes())
+
+
+def fake_run(root: Path, counts: dict[int, int]) -> Path:
+    """A run folder as the engine leaves it: point_cloud.ply, classifier.npz, config.json naming a scene
+    whose masks/objects.json names the objects. Identities are one-hot in the first dimensions."""
+    groups = np.repeat(list(counts), list(counts.values()))
+    identity = np.zeros((len(groups), 16), np.float32)
+    identity[np.arange(len(groups)), groups] = 1.0
+    rng = np.random.default_rng(0)
+    write_splat_ply(root / "point_cloud.ply", rng.normal(size=(len(groups), 3)), identity)
+    weight = np.zeros((4, 16), np.float32)
+    weight[np.arange(4), np.arange(4)] = 5.0
+    np.savez(root / "classifier.npz", weight=weight, bias=np.zeros(4, np.float32))
+    (root / "scene" / "masks").mkdir(parents=True)
+    (root / "scene" / "masks" / "objects.json").write_text(json.dumps(
+        [{"id": 1, "name": "sofa", "target": False}, {"id": 2, "name": "plush", "target": True}]))
+    (root / "config.json").write_text(json.dumps({"scene": str(root / "scene")}))
+    return root / "point_cloud.ply"
+
+
+def test_ply_import_makes_one_proxy_object_per_identity_with_its_gaussians(tmp_path: Path):
+    ply = fake_run(tmp_path, {0: 500, 1: 300, 2: 120, 3: 7})
+    collection = bpy.data.collections.new("run")
+    bpy.context.scene.collection.children.link(collection)
+    objects = import_splats(ply, collection)
+    counts = {o.name: len(o.data.vertices) for o in objects}
+    assert counts == {"background": 500, "sofa": 300, "plush": 120, "object_3": 7}
+    plush = bpy.data.objects["plush"]
+    assert plush["splatfill_group"] == 2 and plush.modifiers[0].node_group.name == "splatfill proxy"
+    evaluated = plush.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    assert len(evaluated.evaluated_geometry().instances_pointcloud().points) == 120  # unrealized instances
+    scale = np.zeros(120 * 3, np.float32)
+    plush.data.attributes["scale"].data.foreach_get("vector", scale)
+    assert np.allclose(scale, 0.02)  # 2 sigma of exp(log 0.01)
+
+
+def test_corrupt_ply_names_the_file(tmp_path: Path):
+    bad = tmp_path / "broken.ply"
+    bad.write_bytes(b"ply\nformat binary_little_endian 1.0\nelement vertex 10\nproperty float x\nend_header\n")
+    with pytest.raises(SplatFileError, match="broken.ply"):
+        read_splats(bad)

@@ -1,0 +1,93 @@
+"""The add-on's operators on a tiny scene, headless: import a trained run, Remove Selected through the
+engine (on the CPU, synchronously as under `blender -b`), and the turntable script's frames."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import bpy
+import pytest
+
+from addon.engine_call import run_engine
+
+REPO = Path(__file__).resolve().parents[2]
+ENGINE_PYTHON = REPO / ".venv" / "bin" / "python"
+
+
+@pytest.fixture(scope="module")
+def package():
+    """The checkout registered as the package Blender would load (relative imports and all)."""
+    spec = importlib.util.spec_from_file_location("splatfill", REPO / "__init__.py",
+                                                  submodule_search_locations=[str(REPO)])
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["splatfill"] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory) -> Path:
+    """A tiny livingroom scene and a short CPU training run of it, both made by the real tools."""
+    spec = importlib.util.spec_from_file_location("tests_conftest", REPO / "tests" / "conftest.py")
+    shared = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(shared)  # the engine tests' make_scene: the real generator, tiny sizes
+    os.environ["SPLATFILL_ENGINE_PYTHON"] = str(ENGINE_PYTHON)
+    root = tmp_path_factory.mktemp("operators")
+    shared.make_scene(root / "scene", "livingroom", env={"SPLATFILL_ENGINE_PYTHON": str(ENGINE_PYTHON)})
+    run_engine(["train", "--scene", str(root / "scene"), "--out", str(root / "run"), "--preset", "tiny", "--steps",
+                "300", "--device", "cpu"])
+    return root / "run"
+
+
+@pytest.fixture
+def registered(package):
+    package.register()
+    yield
+    package.unregister()
+
+
+def _vertices(collection: bpy.types.Collection) -> int:
+    return sum(len(o.data.vertices) for o in collection.objects)
+
+
+def test_remove_selected_runs_the_engine_and_imports_the_scene_without_the_object(run: Path, registered):
+    before_ply = (run / "point_cloud.ply").stat().st_mtime_ns
+    assert bpy.ops.splatfill.import_splats(filepath=str(run / "point_cloud.ply")) == {"FINISHED"}
+    original = bpy.data.collections[run.name]
+    assert {"background", "plush", "box", "cup"} <= set(original.objects.keys())  # the Outliner lists the objects
+    counts = {o.name: len(o.data.vertices) for o in original.objects}
+    bpy.context.view_layer.objects.active = original.objects["plush"]
+    assert bpy.ops.splatfill.remove_selected() == {"FINISHED"}
+    result = bpy.data.collections[f"{run.name} without plush"]
+    removed = Path(result["splatfill_removed"])
+    report = json.loads((removed / "removal.json").read_text())
+    assert removed.parent == run and report["object"]["name"] == "plush" and report["removed"] > 0
+    assert _vertices(result) == report["gaussians_after"] == _vertices(original) - report["removed"]
+    assert {o.name: len(o.data.vertices) for o in original.objects} == counts  # the original is untouched
+    assert (run / "point_cloud.ply").stat().st_mtime_ns == before_ply
+
+
+def test_remove_selected_without_a_proxy_says_what_to_select(registered):
+    with pytest.raises(RuntimeError, match="select one of a splatfill scene's objects"):
+        bpy.ops.splatfill.remove_selected()
+
+
+def test_turntable_writes_side_by_side_frames(run: Path, tmp_path: Path):
+    removed = run / "removed-turntable"
+    run_engine(["remove", "--run", str(run), "--object", "plush", "--out", str(removed), "--device", "cpu"])
+    env = {**os.environ, "SPLATFILL_ENGINE_PYTHON": str(ENGINE_PYTHON)}
+    proc = subprocess.run([sys.executable, str(REPO / "scripts" / "turntable.py"), "--run", str(run), "--removed",
+                           str(removed), "--frames", "3", "--out", str(tmp_path / "tt"), "--device", "cpu"],
+                          capture_output=True, text=True, env=env)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    frames = sorted((tmp_path / "tt" / "frames").glob("*.png"))
+    assert [f.name for f in frames] == ["0000.png", "0001.png", "0002.png"]
+    cameras = json.loads((tmp_path / "tt" / "cameras.json").read_text())
+    assert len(cameras) == 3 and cameras[0]["width"] == 96
+    image = bpy.data.images.load(str(frames[0]))
+    assert tuple(image.size)[0] == 2 * 96  # before | after
