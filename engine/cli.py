@@ -114,6 +114,27 @@ def _cameras(args: argparse.Namespace) -> None:
     emit("done", stage="cameras", out=str(path))
 
 
+def _evaluate(args: argparse.Namespace) -> None:
+    import json
+
+    from engine.completion import score_removed, score_run
+    from engine.progress import emit
+    from engine.scores import ScoreConfig, Scorer
+    from engine.trained_run import load_run_scene
+    from engine.training import pick_device
+
+    scorer = Scorer(ScoreConfig(device=str(pick_device(args.device))))
+    if args.removed:
+        scores = score_removed(load_run_scene(args.run), Path(args.removed), scorer)
+    else:
+        scores = score_run(Path(args.run), scorer)
+    report = {"scores": scores.values, "unavailable": scores.unavailable}
+    if args.out:
+        Path(args.out).write_text(json.dumps(report, indent=1))
+    print(", ".join(f"{k} {v:.4g}" for k, v in scores.values.items() if v is not None), file=sys.stderr)
+    emit("done", stage="evaluate", **report)
+
+
 def _render(args: argparse.Namespace) -> None:
     from engine.render_views import render_to_folder
 
@@ -182,6 +203,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scene", required=True)
     p.add_argument("--out", required=True, help="JSON file to write")
     p.set_defaults(handler=_cameras)
+    p = sub.add_parser("evaluate", help="scores of a run (or with --removed, a removal's renders) on the test views")
+    p.add_argument("--run", required=True)
+    p.add_argument("--removed", default="", help="score this removal output's renders instead of the run")
+    p.add_argument("--out", default="", help="JSON file to write the scores to")
+    p.add_argument("--device", default="auto")
+    p.set_defaults(handler=_evaluate)
     p = sub.add_parser("render", help="render a .ply from the cameras of a cameras.json into a folder of PNGs")
     p.add_argument("--ply", required=True)
     p.add_argument("--cameras", required=True)

@@ -1,4 +1,5 @@
-"""The pipeline as Blender operators: import, Train / Group, Remove Selected, Hole Masks, Inpaint, Complete.
+"""The pipeline as Blender operators: import, Train / Group, Remove Selected, Hole Masks, Inpaint, Complete,
+Evaluate.
 
 Each is thin: it reads the selection and its properties, names a new output folder (never over an input),
 runs one engine command through EngineOperator, and imports what the engine wrote into a new collection
@@ -209,8 +210,27 @@ class SPLATFILL_OT_complete(EngineOperator, bpy.types.Operator):
         return f"{done['method']}: m-PSNR {done.get('m_psnr')} dB, {self._out}"
 
 
+class SPLATFILL_OT_evaluate(EngineOperator, bpy.types.Operator):
+    bl_idname = "splatfill.evaluate"
+    bl_label = "Evaluate"
+    bl_description = "PSNR, SSIM, LPIPS, FID and their masked variants on the test views of the active scene"
+
+    def engine_args(self, context, device):
+        c = _run_collection(context)
+        removed = ["--removed", c["splatfill_removed"]] if "splatfill_removed" in c else []
+        self._name = c.name
+        return ["evaluate", "--run", c["splatfill_run"], *removed, "--device", device]
+
+    def finish(self, context, records):
+        scores = done_record(records, "evaluate")["scores"]
+        shown = [f"{k} {scores[k]:.3f}" for k in ("psnr", "m_psnr", "ssim", "m_ssim", "lpips", "m_lpips")
+                 if scores.get(k) is not None]
+        return f"{self._name}: " + ", ".join(shown)
+
+
 CLASSES = (SPLATFILL_OT_import_colmap, SPLATFILL_OT_import_splats, SPLATFILL_OT_train,
-           SPLATFILL_OT_remove_selected, SPLATFILL_OT_hole_masks, SPLATFILL_OT_inpaint, SPLATFILL_OT_complete)
+           SPLATFILL_OT_remove_selected, SPLATFILL_OT_hole_masks, SPLATFILL_OT_inpaint, SPLATFILL_OT_complete,
+           SPLATFILL_OT_evaluate)
 
 
 def register() -> None:

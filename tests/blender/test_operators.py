@@ -70,6 +70,8 @@ def test_remove_selected_runs_the_engine_and_imports_the_scene_without_the_objec
     assert _vertices(result) == report["gaussians_after"] == _vertices(original) - report["removed"]
     assert {o.name: len(o.data.vertices) for o in original.objects} == counts  # the original is untouched
     assert (run / "point_cloud.ply").stat().st_mtime_ns == before_ply
+    bpy.context.view_layer.objects.active = result.objects[0]
+    assert bpy.ops.splatfill.evaluate() == {"FINISHED"}  # the removal's renders scored by the engine
 
 
 def test_remove_selected_without_a_proxy_says_what_to_select(registered):
