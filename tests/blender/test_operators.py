@@ -93,3 +93,11 @@ def test_turntable_writes_side_by_side_frames(run: Path, tmp_path: Path):
     assert len(cameras) == 3 and cameras[0]["width"] == 96
     image = bpy.data.images.load(str(frames[0]))
     assert tuple(image.size)[0] == 2 * 96  # before | after
+
+
+def test_import_colmap_makes_a_camera_per_view_through_the_engine(run: Path, registered):
+    scene = Path(json.loads((run / "config.json").read_text())["scene"])
+    assert bpy.ops.splatfill.import_colmap(directory=str(scene)) == {"FINISHED"}
+    cameras = bpy.data.collections[f"{scene.name} cameras"].objects
+    assert len(cameras) == 8 and all(o.type == "CAMERA" for o in cameras)
+    assert (bpy.context.scene.render.resolution_x, bpy.context.scene.render.resolution_y) == (96, 72)
