@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 import bpy
+import numpy as np
 import pytest
 
 from addon.engine_call import run_engine
@@ -101,3 +102,28 @@ def test_import_colmap_makes_a_camera_per_view_through_the_engine(run: Path, reg
     cameras = bpy.data.collections[f"{scene.name} cameras"].objects
     assert len(cameras) == 8 and all(o.type == "CAMERA" for o in cameras)
     assert (bpy.context.scene.render.resolution_x, bpy.context.scene.render.resolution_y) == (96, 72)
+
+
+def test_turntable_follows_a_blender_camera_path(run: Path, registered, tmp_path: Path):
+    """--camera: a Blender camera's path over the frame range; here an imported COLMAP camera, so the path's
+    one record must give back that view's intrinsics and pose."""
+    sys.path.insert(0, str(REPO / "scripts"))
+    import turntable
+
+    scene_dir = Path(json.loads((run / "config.json").read_text())["scene"])
+    assert bpy.ops.splatfill.import_colmap(directory=str(scene_dir)) == {"FINISHED"}
+    camera = bpy.data.objects["0000"]
+    bpy.context.scene.frame_start = bpy.context.scene.frame_end = 1
+    removed = run / "removed-turntable"  # made by test_turntable_writes_side_by_side_frames
+    if not removed.exists():
+        run_engine(["remove", "--run", str(run), "--object", "plush", "--out", str(removed), "--device", "cpu"])
+    assert turntable.main(["turntable.py", "--run", str(run), "--removed", str(removed), "--camera", camera.name,
+                           "--out", str(tmp_path / "tt"), "--device", "cpu"]) == 0
+    record = json.loads((tmp_path / "tt" / "cameras.json").read_text())[0]
+    engine_cameras = tmp_path / "cameras.json"
+    run_engine(["cameras", "--scene", str(scene_dir), "--out", str(engine_cameras)])
+    truth = next(c for c in json.loads(engine_cameras.read_text()) if c["name"] == "0000.png")
+    for key in ("width", "height", "fx", "fy", "cx", "cy"):
+        assert record[key] == pytest.approx(truth[key], abs=1e-3)
+    assert np.allclose(record["R"], truth["R"], atol=1e-5) and np.allclose(record["t"], truth["t"], atol=1e-4)
+    assert (tmp_path / "tt" / "frames" / "0000.png").is_file()
