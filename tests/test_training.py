@@ -75,8 +75,10 @@ def test_a_resumed_run_reaches_the_same_state_as_an_uninterrupted_one(living_sce
     shutil.copy(tmp_path / "whole" / "checkpoints" / "step_0000010.pt", resumed_run / "checkpoints")
     resumed = train(TrainConfig(out=str(resumed_run)), resume=True)
     a, b = load_ply(tmp_path / "whole" / "point_cloud.ply"), load_ply(resumed_run / "point_cloud.ply")
-    # bit for bit: the reference rasterizer sorts stably, so a clone and its parent keep their order
-    assert all(torch.equal(a[k], b[k]) for k in a)
+    # the same state up to float rounding: the reference rasterizer sorts stably, so a clone and its parent
+    # keep their order (before, runs differed by 2e-3); multithreaded CPU sums still differ in the last bits
+    # now and then (measured: up to 5e-7 in 1 of 4 repeats, often 0)
+    assert all(torch.allclose(a[k], b[k], rtol=0, atol=1e-5) for k in a)
     assert whole["psnr"] == pytest.approx(resumed["psnr"], abs=1e-4) and whole["gaussians"] == resumed["gaussians"]
     for name in ("config.json", "point_cloud.ply", "classifier.npz", "objects.json", "metrics.json"):
         assert (resumed_run / name).is_file()
