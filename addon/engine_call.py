@@ -50,7 +50,6 @@ class EngineJob:
     which alone may touch bpy)."""
 
     def __init__(self, args: list[str]) -> None:
-        self.args = args
         self.errors = tempfile.TemporaryFile(mode="w+")  # a file, so a chatty stderr cannot block the pipe
         self.proc = subprocess.Popen([str(engine_python()), "-m", "engine", *args], stdout=subprocess.PIPE,
                                      stderr=self.errors, text=True, env=engine_env(), start_new_session=True)

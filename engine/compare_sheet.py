@@ -12,6 +12,7 @@ import numpy as np
 
 from engine.errors import InputError
 from engine.image_io import read_png, write_png
+from engine.output_dir import atomic_output_dir
 from engine.preview import label
 
 
@@ -42,8 +43,6 @@ def compare_sheet(columns: list[tuple[str, Path]], views: list[str], out: Path) 
 
 def compare_frames(columns: list[tuple[str, Path]], views: list[str], out: Path) -> Path:
     """One side-by-side PNG per view into the new folder `out` (a turntable's frames), written atomically."""
-    from engine.output_dir import atomic_output_dir
-
     _check(columns, views)
     with atomic_output_dir(out) as tmp:
         for view in views:

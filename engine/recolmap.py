@@ -86,7 +86,8 @@ def reconstruct(images: Path, names: list[str], intrinsics: Camera, work: Path) 
 def rerun_colmap(scene_dir: Path, train_names: list[str], work: Path) -> dict:
     """Replace scene_dir's model by one re-estimated from its training images (see the module docstring);
     returns the report: views registered, alignment residual and pose errors against the original."""
-    original = read_model(find_model_dir(scene_dir))
+    model_dir = find_model_dir(scene_dir)
+    original = read_model(model_dir)
     by_name = {c.name: c for c in original.cameras}
     new = reconstruct(scene_dir / "images", train_names, by_name[train_names[0]], work)
     registered = [c for c in new.cameras if c.name in by_name and c.name in train_names]
@@ -101,7 +102,6 @@ def rerun_colmap(scene_dir: Path, train_names: list[str], work: Path) -> dict:
     dropped = [n for n in train_names if n not in aligned]
     cameras = [aligned.get(c.name, c) for c in original.cameras if c.name not in dropped]
     model = ColmapModel(cameras=cameras, points=align.points(new.points), colors=new.colors)
-    model_dir = find_model_dir(scene_dir)
     for path in model_dir.iterdir():
         path.unlink()
     write_model(model_dir, model)

@@ -1,4 +1,5 @@
-"""Render a set of Gaussians into numpy pictures for the stages that write files (removal, holes, sheets)."""
+"""Render a set of Gaussians into numpy pictures for the stages that write files (removal, holes, sheets),
+and into a folder of PNGs from a cameras.json (turntable frames)."""
 
 from __future__ import annotations
 
@@ -10,8 +11,14 @@ import numpy as np
 import torch
 
 from engine.camera import Camera
+from engine.camera_json import read_cameras_json
 from engine.gaussians import Gaussians
+from engine.image_io import write_png
+from engine.output_dir import atomic_output_dir
+from engine.ply_io import SH_REST_COUNTS, load_ply
+from engine.progress import Progress, emit
 from engine.rasterize import CameraTensors, render
+from engine.training import pick_device
 
 MIN_ALPHA = 0.5  # below this the expected depth is mostly background-free guesswork: stored as inf
 
@@ -40,15 +47,8 @@ def render_pictures(gaussians: Gaussians, cameras: list[Camera], sh_degree: int,
 def render_to_folder(ply: Path, cameras_json: Path, out: Path, device: str = "auto") -> Path:
     """Render a .ply from every camera of a cameras.json into out/<camera name> (PNG), written atomically:
     the turntable's frames and any other camera path a user brings."""
-    from engine.camera_json import read_cameras_json
-    from engine.image_io import write_png
-    from engine.output_dir import atomic_output_dir
-    from engine.ply_io import load_ply
-    from engine.progress import Progress, emit
-    from engine.training import pick_device
-
     gaussians, cameras = load_ply(ply), read_cameras_json(cameras_json)
-    sh_degree = round((gaussians["shN"].shape[1] + 1) ** 0.5) - 1
+    sh_degree = SH_REST_COUNTS[3 * gaussians["shN"].shape[1]]  # load_ply checked the count
     with atomic_output_dir(out) as tmp:
         progress = Progress("render", len(cameras))
         for k, picture in enumerate(render_pictures(gaussians, cameras, sh_degree, pick_device(device))):

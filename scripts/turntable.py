@@ -28,7 +28,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from blender_entry import add_repo_to_path, script_args  # noqa: E402
 
 add_repo_to_path()
-from addon.cameras import colmap_record  # noqa: E402
+from addon.cameras import camera_to_world, colmap_record  # noqa: E402
 from addon.engine_call import EngineError, run_engine  # noqa: E402
 from addon.splat_ply import read_splats  # noqa: E402
 
@@ -49,7 +49,7 @@ def object_centre(run: Path, removed: Path) -> np.ndarray:
 def orbit(records: list[dict], centre: np.ndarray, frames: int) -> list[dict]:
     """`frames` cameras on a circle around `centre`, at the scene cameras' median distance and height."""
     R = np.array([r["R"] for r in records])
-    centres = np.array([-np.asarray(r["R"]).T @ np.asarray(r["t"]) for r in records])
+    centres = np.array([camera_to_world(r["R"], r["t"])[:3, 3] for r in records])
     up = -R[:, 1, :].mean(0)  # a camera's -y axis (OpenCV) points up in the world
     up /= np.linalg.norm(up)
     offsets = centres - centre
