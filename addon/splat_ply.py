@@ -1,4 +1,4 @@
-"""Read a 3DGS .ply (engine.ply_io's layout, which is the standard one) with numpy alone, and turn it into
+"""Read a 3DGS .ply (engine.io.ply_io's layout, which is the standard one) with numpy alone, and turn it into
 what a Blender proxy shows: position, rotation, scale, colour, opacity and the identity group.
 
 Blender's Python has numpy but neither torch nor plyfile, so this is the Blender side's reader; it needs no

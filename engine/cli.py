@@ -6,17 +6,17 @@ import argparse
 import sys
 from pathlib import Path
 
-from engine.errors import Cancelled, InputError
+from engine.base.errors import Cancelled, InputError
 
 
 def _build_scene(args: argparse.Namespace) -> None:
-    from engine.scene_build import BuildConfig, build_scene
+    from engine.io.scene_build import BuildConfig, build_scene
 
     build_scene(Path(args.renders), Path(args.out), BuildConfig(max_points=args.max_points, seed=args.seed))
 
 
 def _info(args: argparse.Namespace) -> None:
-    from engine.scene import load_scene
+    from engine.io.scene import load_scene
 
     scene = load_scene(args.scene)
     cam = scene.cameras[0]
@@ -29,16 +29,16 @@ def _info(args: argparse.Namespace) -> None:
 
 
 def _preview(args: argparse.Namespace) -> None:
-    from engine.preview import write_scene_preview
-    from engine.scene import load_scene
+    from engine.io.scene import load_scene
+    from engine.pictures.preview import write_scene_preview
 
     path = write_scene_preview(load_scene(args.scene), Path(args.out), rows=args.rows)
     print(f"wrote {path}")
 
 
 def _train(args: argparse.Namespace) -> None:
-    from engine.train_config import config_from_args
-    from engine.train_run import train
+    from engine.train.config import config_from_args
+    from engine.train.run import train
 
     metrics = train(config_from_args(args), resume=args.resume)
     print(f"test PSNR {metrics['psnr']:.2f} dB, SSIM {metrics['ssim']:.4f}, identity mIoU "
@@ -47,32 +47,32 @@ def _train(args: argparse.Namespace) -> None:
 
 
 def _remove(args: argparse.Namespace) -> None:
-    from engine.removal import RemovalConfig, run_removal
-    from engine.train_config import config_from_args
+    from engine.edit.removal import RemovalConfig, run_removal
+    from engine.train.config import config_from_args
 
     report = run_removal(config_from_args(args, RemovalConfig))
     print(f"removed {report['removed']} of {report['gaussians_before']} Gaussians", file=sys.stderr)
 
 
 def _holes(args: argparse.Namespace) -> None:
-    from engine.holes import HoleConfig, run_holes
-    from engine.train_config import config_from_args
+    from engine.edit.holes import HoleConfig, run_holes
+    from engine.train.config import config_from_args
 
     report = run_holes(config_from_args(args, HoleConfig))
     print(f"hole masks written; mean IoU against the scene's holes/: {report['mean_iou_vs_truth']}", file=sys.stderr)
 
 
 def _inpaint(args: argparse.Namespace) -> None:
-    from engine.inpaint_run import InpaintConfig, run_inpaint
-    from engine.train_config import config_from_args
+    from engine.inpaint.run import InpaintConfig, run_inpaint
+    from engine.train.config import config_from_args
 
     report = run_inpaint(config_from_args(args, InpaintConfig))
     print(f"inpainted {report['views']} views in {report['inpaint_seconds']:.1f} s", file=sys.stderr)
 
 
 def _complete(args: argparse.Namespace) -> None:
-    from engine.completion import CompleteConfig, run_complete
-    from engine.train_config import config_from_args
+    from engine.complete.run import CompleteConfig, run_complete
+    from engine.train.config import config_from_args
 
     report = run_complete(config_from_args(args, CompleteConfig))
     print(f"{report['method']}: m-PSNR {report['scores']['m_psnr']} (removed, unfilled: "
@@ -81,7 +81,7 @@ def _complete(args: argparse.Namespace) -> None:
 
 
 def _compare(args: argparse.Namespace) -> None:
-    from engine.compare_sheet import compare_sheet
+    from engine.pictures.compare_sheet import compare_sheet
 
     columns = []
     for column in args.columns:
@@ -90,8 +90,8 @@ def _compare(args: argparse.Namespace) -> None:
             raise InputError(f"column {column!r} must read LABEL=DIR")
         columns.append((name, Path(folder)))
     if args.per_view:
-        from engine.compare_sheet import compare_frames
-        from engine.progress import emit
+        from engine.base.progress import emit
+        from engine.pictures.compare_sheet import compare_frames
 
         emit("done", stage="compare", out=str(compare_frames(columns, args.views, Path(args.out))))
     else:
@@ -99,15 +99,15 @@ def _compare(args: argparse.Namespace) -> None:
 
 
 def _chart(args: argparse.Namespace) -> None:
-    from engine.chart_png import chart_png
+    from engine.pictures.chart_png import chart_png
 
     print(f"wrote {chart_png(Path(args.spec), Path(args.out))}", file=sys.stderr)
 
 
 def _cameras(args: argparse.Namespace) -> None:
-    from engine.camera_json import write_cameras_json
-    from engine.colmap_model import find_model_dir, read_model
-    from engine.progress import emit
+    from engine.base.progress import emit
+    from engine.formats.camera_json import write_cameras_json
+    from engine.io.colmap_model import find_model_dir, read_model
 
     scene = Path(args.scene)
     path = write_cameras_json(read_model(find_model_dir(scene)).cameras, Path(args.out))
@@ -117,11 +117,11 @@ def _cameras(args: argparse.Namespace) -> None:
 def _evaluate(args: argparse.Namespace) -> None:
     import json
 
-    from engine.completion import score_removed, score_run
-    from engine.progress import emit
-    from engine.scores import ScoreConfig, Scorer
-    from engine.trained_run import load_run_scene
-    from engine.training import pick_device
+    from engine.base.device import pick_device
+    from engine.base.progress import emit
+    from engine.complete.run import score_removed, score_run
+    from engine.metrics.scores import ScoreConfig, Scorer
+    from engine.train.trained_run import load_run_scene
 
     scorer = Scorer(ScoreConfig(device=str(pick_device(args.device))))
     if args.removed:
@@ -136,7 +136,7 @@ def _evaluate(args: argparse.Namespace) -> None:
 
 
 def _render(args: argparse.Namespace) -> None:
-    from engine.render_views import render_to_folder
+    from engine.render.render_views import render_to_folder
 
     print(f"wrote {render_to_folder(Path(args.ply), Path(args.cameras), Path(args.out), args.device)}", file=sys.stderr)
 
@@ -145,7 +145,7 @@ def _version(args: argparse.Namespace) -> None:
     import torch
 
     from engine import __version__
-    from engine.progress import emit
+    from engine.base.progress import emit
 
     print(f"splatfill engine {__version__}, torch {torch.__version__}, CUDA {torch.cuda.is_available()}",
           file=sys.stderr)
@@ -170,15 +170,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rows", type=int, default=3, help="number of views shown")
     p.set_defaults(handler=_preview)
     p = sub.add_parser("train", help="train Gaussians with identities (Gaussian Grouping on gsplat)")
-    from engine.train_config import add_config_arguments
+    from engine.train.config import add_config_arguments
 
     add_config_arguments(p)
     p.add_argument("--resume", action="store_true", help="continue the run in --out from its newest checkpoint")
     p.set_defaults(handler=_train)
-    from engine.completion import CompleteConfig
-    from engine.holes import HoleConfig
-    from engine.inpaint_run import InpaintConfig
-    from engine.removal import RemovalConfig
+    from engine.complete.run import CompleteConfig
+    from engine.edit.holes import HoleConfig
+    from engine.edit.removal import RemovalConfig
+    from engine.inpaint.run import InpaintConfig
 
     for name, cls, handler, text in (
         ("remove", RemovalConfig, _remove, "delete an object's Gaussians (by id/name or a 3D box) and render the rest"),

@@ -7,7 +7,7 @@ For each identity threshold, with and without the visual-hull clean-up: Gaussian
 removed scene against gt/ outside the true hole on test views (what removal leaves behind: remnants of the
 object and floaters lower it). Then hole masks at several depth tolerances: mean IoU against the scene's
 exact holes/, hole size relative to the object's region, seconds, with and without stopping rays at the
-support plane (engine.support_plane). Engine Python; GPU for real scenes.
+support plane (engine.edit.support_plane). Engine Python; GPU for real scenes.
 """
 
 from __future__ import annotations
@@ -27,9 +27,9 @@ RESULTS = REPO / "docs" / "benchmarks" / "removal"
 
 def measure(scene: Path, run: Path, thresholds: list[float], tolerances: list[float], margins: list[float],
             work: Path) -> dict:
-    from engine.holes import HoleConfig, run_holes
-    from engine.removal import RemovalConfig, run_removal
-    from engine.scene import load_scene
+    from engine.edit.holes import HoleConfig, run_holes
+    from engine.edit.removal import RemovalConfig, run_removal
+    from engine.io.scene import load_scene
 
     target = load_scene(scene).target
     removals = []
@@ -62,8 +62,8 @@ def measure(scene: Path, run: Path, thresholds: list[float], tolerances: list[fl
 
 
 def run_bench(args: argparse.Namespace) -> None:
-    from engine.train_config import TrainConfig
-    from engine.train_run import train
+    from engine.train.config import TrainConfig
+    from engine.train.run import train
 
     scene = Path(args.scene)
     with tempfile.TemporaryDirectory() as tmp:

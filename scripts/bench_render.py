@@ -17,8 +17,8 @@ import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from engine.rasterize import CameraTensors  # noqa: E402
-from engine.scene import load_scene  # noqa: E402
+from engine.io.scene import load_scene  # noqa: E402
+from engine.render.rasterize import CameraTensors  # noqa: E402
 
 
 def gaussians_like(scene, n: int, device) -> dict[str, torch.Tensor]:

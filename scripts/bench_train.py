@@ -42,8 +42,8 @@ def warm_up() -> None:
 def run_one(scene: Path, budget: int, steps: int, results: Path, runs: Path | None) -> dict:
     import torch
 
-    from engine.train_config import TrainConfig
-    from engine.train_run import train
+    from engine.train.config import TrainConfig
+    from engine.train.run import train
 
     with tempfile.TemporaryDirectory() as tmp:
         torch.cuda.reset_peak_memory_stats() if torch.cuda.is_available() else None

@@ -37,7 +37,7 @@ add_repo_to_path()
 from benchmark_report import write_reports  # noqa: E402
 
 from addon.engine_call import EngineError, run_engine  # noqa: E402
-from engine.method_names import method_name  # noqa: E402
+from engine.complete.method_names import method_name  # noqa: E402
 
 METHODS = {"init": ("init", 3, False), "direct": ("direct", 3, False), "ft3": ("ft", 3, False),
            "ftall": ("ft", 0, False), "init-colmap": ("init", 3, True)}  # -> (method, refs, recolmap)

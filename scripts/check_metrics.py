@@ -40,7 +40,7 @@ def check_lpips(home: Path, device: str) -> dict:
     import torch
     import torchvision
 
-    from engine.lpips_metric import Lpips
+    from engine.metrics.lpips_metric import Lpips
 
     torch.manual_seed(0)
     state = torchvision.models.alexnet(weights=None).state_dict()
@@ -68,8 +68,8 @@ def check_fid(home: Path, device: str) -> dict:
     import torch
     from pytorch_fid.inception import InceptionV3
 
-    from engine.distribution_metrics import frechet_distance
-    from engine.fid_inception import WEIGHTS_FILE, FidInception
+    from engine.metrics.distribution_metrics import frechet_distance
+    from engine.metrics.fid_inception import WEIGHTS_FILE, FidInception
 
     torch.manual_seed(0)
     checkpoints = home / "hub" / "checkpoints"

@@ -5,7 +5,7 @@
 Gaussians are initialised from the scene's points with seeded random rotations, anisotropic scales,
 opacities, SH and identities; both back ends render the same views in float32 on the GPU, and a fixed
 random weighting of every output channel is back-propagated through each. Also compares the torch
-fallbacks of gsplat's MCMC ops (engine.gsplat_cpu) with the CUDA kernels. Engine Python; needs CUDA.
+fallbacks of gsplat's MCMC ops (engine.train.gsplat_cpu) with the CUDA kernels. Engine Python; needs CUDA.
 """
 
 from __future__ import annotations
@@ -19,9 +19,9 @@ import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from engine.gaussians import init_from_points  # noqa: E402
-from engine.rasterize import CameraTensors, render  # noqa: E402
-from engine.scene import load_scene  # noqa: E402
+from engine.io.gaussians import init_from_points  # noqa: E402
+from engine.io.scene import load_scene  # noqa: E402
+from engine.render.rasterize import CameraTensors, render  # noqa: E402
 
 
 def random_gaussians(scene, device, seed: int = 0) -> dict[str, torch.Tensor]:
@@ -74,7 +74,7 @@ def compare_mcmc_ops(device) -> dict:
     import gsplat
     from gsplat.relocation import compute_relocation as cuda_relocation
 
-    from engine.gsplat_cpu import compute_relocation, quat_scale_to_covar_preci
+    from engine.train.gsplat_cpu import compute_relocation, quat_scale_to_covar_preci
 
     gen = torch.Generator().manual_seed(2)
     n, n_max = 10_000, 51

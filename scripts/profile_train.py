@@ -18,10 +18,11 @@ import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from engine.scene import load_scene  # noqa: E402
-from engine.train_config import TrainConfig  # noqa: E402
-from engine.train_run import latest_checkpoint  # noqa: E402
-from engine.training import Trainer, pick_device  # noqa: E402
+from engine.base.device import pick_device  # noqa: E402
+from engine.io.scene import load_scene  # noqa: E402
+from engine.train.config import TrainConfig  # noqa: E402
+from engine.train.run import latest_checkpoint  # noqa: E402
+from engine.train.trainer import Trainer  # noqa: E402
 
 
 def main() -> int:

@@ -64,8 +64,8 @@ def any_scene(request, scenes_dir, living_scene) -> Path:
 @pytest.fixture(scope="session")
 def tiny_run(living_scene, tmp_path_factory) -> Path:
     """A finished CPU training run (tiny preset) on the tiny livingroom scene, shared by the later stages."""
-    from engine.train_config import TrainConfig
-    from engine.train_run import train
+    from engine.train.config import TrainConfig
+    from engine.train.run import train
 
     out = tmp_path_factory.mktemp("runs") / "living"
     train(TrainConfig(scene=str(living_scene), out=str(out), preset="tiny", device="cpu", steps=800))

@@ -7,7 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from engine.image_io import read_png
+from engine.io.image_io import read_png
 
 REPO = Path(__file__).resolve().parent.parent
 

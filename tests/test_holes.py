@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from engine.camera import Camera, pixel_grid
-from engine.visibility import unseen_mask
+from engine.formats.cameras import Camera, pixel_grid
+from engine.io.visibility import unseen_mask
 
 F, W, H = 100.0, 120, 80
 WALL, SQUARE, HALF = 4.0, 2.0, 0.25  # a wall at z = 4, a square object of half-width 0.25 at z = 2
@@ -71,7 +71,7 @@ def test_support_plane_is_fitted_around_the_object_and_stops_rays_that_see_throu
     """The object's region in A and B is ringed by wall pixels at z = 4: the fitted plane is the wall. A
     removed render that looks through the wall (depth 4.4 in the region, as 3DGS shows where the support
     was never built) is pulled back onto it; pixels in front of the plane and outside the region stay."""
-    from engine.support_plane import stop_at_plane, support_plane
+    from engine.edit.support_plane import stop_at_plane, support_plane
 
     a, b = camera_at(0.0), camera_at(0.5)
     (depth_a, region_a), (depth_b, region_b) = depth_seen_from(a, True), depth_seen_from(b, True)
@@ -87,7 +87,7 @@ def test_support_plane_is_fitted_around_the_object_and_stops_rays_that_see_throu
 
 
 def test_no_plane_is_claimed_among_scattered_surfaces():
-    from engine.support_plane import fit_plane
+    from engine.edit.support_plane import fit_plane
 
     rng = np.random.default_rng(1)
     assert fit_plane(rng.uniform(-1, 1, (2000, 3)), tol=0.01) is None

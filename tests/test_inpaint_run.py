@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 import torch
 
-from engine.holes import HoleConfig, run_holes
-from engine.image_io import exr_name, read_depth, read_png
-from engine.inpaint_run import InpaintConfig, run_inpaint
-from engine.inpainters.nanobanana import PAPER_PROMPTS
-from engine.masks import dilate
-from engine.removal import RemovalConfig, run_removal
-from engine.trained_run import load_run_scene
+from engine.edit.holes import HoleConfig, run_holes
+from engine.edit.removal import RemovalConfig, run_removal
+from engine.inpaint.inpainters.nanobanana import PAPER_PROMPTS
+from engine.inpaint.run import InpaintConfig, run_inpaint
+from engine.io.image_io import exr_name, read_depth, read_png
+from engine.io.masks import dilate
+from engine.train.trained_run import load_run_scene
 
 
 @pytest.fixture(scope="module")
@@ -73,8 +73,8 @@ def errors_toward(run_dir: Path, views: list[int], masks: Path, targets: Path, b
     are too few, and our holes cover little of their true holes (IoU 0.2-0.4), so their m-PSNR moves by a dB
     either way with the training seed (measured: Init-fsr 21.7-24.3 dB against the unfilled 22.5-23.6 over
     five runs; docs/BENCHMARKS.md)."""
-    from engine.render_views import render_pictures
-    from engine.trained_run import load_run
+    from engine.render.render_views import render_pictures
+    from engine.train.trained_run import load_run
 
     run = load_run(run_dir)
     cameras = [run.scene.cameras[i] for i in views]
@@ -95,8 +95,8 @@ def test_init_completion_trains_on_the_inpainted_views_and_carries_the_fill_into
     """Init-fsr with the run's own 800 steps: the training images are the inpainted renders inside the
     object's region and the input images outside it; the new scene's renders inside the holes moved toward
     the fill. m-PSNR is scored beside the unfilled scene's (see errors_toward for why it is not asserted)."""
-    from engine.completion import CompleteConfig, run_complete
-    from engine.trained_run import load_run
+    from engine.complete.run import CompleteConfig, run_complete
+    from engine.train.trained_run import load_run
 
     inpainted = stages["work"] / "fsr-for-init"
     run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="fsr", removed=str(stages["removed"]),
@@ -124,7 +124,7 @@ def test_init_completion_trains_on_the_inpainted_views_and_carries_the_fill_into
 
 
 def test_direct_inpaints_the_object_region_of_the_input_images_and_completes_from_them(stages, tmp_path):
-    from engine.completion import CompleteConfig, run_complete
+    from engine.complete.run import CompleteConfig, run_complete
 
     inpainted = stages["work"] / "direct-fsr"
     run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="fsr", source="input",
@@ -158,8 +158,8 @@ def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_
     """FT(3) with the L1 perceptual term, and FT(All) with LPIPS on tiny random weights made here."""
     from test_metrics import save_tiny_lpips_weights
 
-    from engine.completion import CompleteConfig, run_complete
-    from engine.ply_io import load_ply
+    from engine.complete.run import CompleteConfig, run_complete
+    from engine.io.ply_io import load_ply
 
     inpainted = fsr_for_ft(stages)
     backbone, heads = save_tiny_lpips_weights(tmp_path)
@@ -178,8 +178,8 @@ def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_
     # it fits its objective: inside the holes of the reference views, where the masked L1 pulls it, the render
     # moved toward the inpainted images (measured on tiny runs of three seeds: 4.9 vs 6.0, 3.9 vs 4.3, 4.5 vs
     # 8.1 mean absolute error)
-    from engine.finetune import reference_views
-    from engine.masks import read_masks
+    from engine.complete.finetune import reference_views
+    from engine.io.masks import read_masks
 
     scene = load_run_scene(stages["run"])
     views = reference_views(read_masks(stages["holes"], scene.cameras), scene.train, refs)
@@ -189,8 +189,8 @@ def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_
 
 
 def test_finetune_without_lpips_weights_says_how_to_go_on(stages, tmp_path, monkeypatch):
-    from engine.completion import CompleteConfig, run_complete
-    from engine.errors import InputError
+    from engine.base.errors import InputError
+    from engine.complete.run import CompleteConfig, run_complete
 
     monkeypatch.delenv("LPIPS_BACKBONE", raising=False)
     monkeypatch.setenv("TORCH_HOME", str(tmp_path))
@@ -203,8 +203,8 @@ def test_finetune_without_lpips_weights_says_how_to_go_on(stages, tmp_path, monk
 def test_recolmap_is_for_new_scenes_and_stops_cleanly_where_colmap_cannot_register(stages, tmp_path):
     """The tiny scene's 96x72 views hold too few SIFT features for COLMAP: a clear error, no scene folder left
     half-written (tests/test_recolmap.py checks the poses where COLMAP succeeds)."""
-    from engine.completion import CompleteConfig, run_complete
-    from engine.errors import InputError
+    from engine.base.errors import InputError
+    from engine.complete.run import CompleteConfig, run_complete
 
     inpainted = fsr_for_ft(stages)
     common = dict(run=str(stages["run"]), inpainter="fsr", inpainted=str(inpainted), removed=str(stages["removed"]),

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 import torch
 
-from engine.errors import InputError
-from engine.inpainters import create, names
+from engine.base.errors import InputError
+from engine.inpaint.inpainters import create, names
 
 Y, X = np.mgrid[:72, :96]
 TEXTURE = np.stack([128 + 60 * np.sin(X / 9), 128 + 60 * np.cos(Y / 11), 100 + X + 0 * Y], -1).astype(np.uint8)
@@ -151,7 +151,7 @@ def tiny_diffusers(tmp_path_factory):
 
 
 def test_diffusion_loads_a_local_diffusers_folder_and_pastes_the_unmasked_pixels_back(tiny_diffusers):
-    from engine.inpainters.diffusion import NEGATIVE, POSITIVE
+    from engine.inpaint.inpainters.diffusion import NEGATIVE, POSITIVE
 
     inpainter = create("diffusion", model=str(tiny_diffusers), steps=2, device="cpu")
     image, mask = TEXTURE[:70, :93], MASK[:70, :93]  # not multiples of 8: resized for the UNet and back

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 import torch
 
-from engine.distribution_metrics import frechet_distance, kernel_inception_distance
-from engine.errors import InputError
+from engine.base.errors import InputError
+from engine.metrics.distribution_metrics import frechet_distance, kernel_inception_distance
 
 
 def test_frechet_distance_of_gaussians_with_diagonal_covariances_matches_the_closed_form():
@@ -38,7 +38,7 @@ def test_kid_is_unbiased_near_zero_for_one_distribution_and_positive_for_two():
 
 def save_tiny_lpips_weights(folder):
     """Random AlexNet features saved with torchvision's keys, and lpips' head layout (lin<k>.model.1.weight)."""
-    from engine.lpips_metric import CHANNELS, alexnet_features
+    from engine.metrics.lpips_metric import CHANNELS, alexnet_features
 
     torch.manual_seed(0)
     features = alexnet_features()
@@ -51,7 +51,7 @@ def save_tiny_lpips_weights(folder):
 
 
 def test_lpips_is_zero_for_identical_images_grows_with_noise_and_its_map_averages_to_it(tmp_path):
-    from engine.lpips_metric import Lpips
+    from engine.metrics.lpips_metric import Lpips
 
     backbone, heads = save_tiny_lpips_weights(tmp_path)
     lpips = Lpips(str(backbone), str(heads))
@@ -67,7 +67,7 @@ def test_lpips_is_zero_for_identical_images_grows_with_noise_and_its_map_average
 
 
 def test_lpips_without_weights_names_the_file_and_the_fix(tmp_path, monkeypatch):
-    from engine.lpips_metric import Lpips
+    from engine.metrics.lpips_metric import Lpips
 
     monkeypatch.delenv("LPIPS_BACKBONE", raising=False)
     monkeypatch.setenv("TORCH_HOME", str(tmp_path))
@@ -76,7 +76,7 @@ def test_lpips_without_weights_names_the_file_and_the_fix(tmp_path, monkeypatch)
 
 
 def test_fid_inception_loads_its_own_layout_and_maps_images_to_2048_features(tmp_path, monkeypatch):
-    from engine.fid_inception import FidInception
+    from engine.metrics.fid_inception import FidInception
 
     torch.manual_seed(0)
     path = tmp_path / "pt_inception-2015-12-05-6726825d.pth"
@@ -95,7 +95,7 @@ def test_fid_inception_loads_its_own_layout_and_maps_images_to_2048_features(tmp
 
 def test_pixel_scores_match_hand_computed_values_and_masked_ones_ignore_everything_outside_the_hole():
     """Truth grey 100; the render is off by 10 inside the hole and by 50 outside it."""
-    from engine.scores import ScoreConfig, score_views
+    from engine.metrics.scores import ScoreConfig, score_views
 
     truth = np.full((40, 60, 3), 100, np.uint8)
     hole = np.zeros((40, 60), bool)
@@ -115,8 +115,8 @@ def test_pixel_scores_match_hand_computed_values_and_masked_ones_ignore_everythi
 
 
 def test_masked_lpips_and_m_fid_use_the_hole_region(tmp_path, monkeypatch):
-    from engine.fid_inception import FidInception
-    from engine.scores import ScoreConfig, hole_crop, score_views
+    from engine.metrics.fid_inception import FidInception
+    from engine.metrics.scores import ScoreConfig, hole_crop, score_views
 
     backbone, heads = save_tiny_lpips_weights(tmp_path)
     torch.manual_seed(0)

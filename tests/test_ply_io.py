@@ -9,9 +9,9 @@ import pytest
 import torch
 from plyfile import PlyData, PlyElement
 
-from engine.errors import InputError
-from engine.gaussians import new_classifier
-from engine.ply_io import load_classifier, load_ply, save_classifier, save_ply
+from engine.base.errors import InputError
+from engine.io.gaussians import new_classifier
+from engine.io.ply_io import load_classifier, load_ply, save_classifier, save_ply
 
 
 def random_gaussians(n: int = 100, k: int = 15) -> dict[str, torch.Tensor]:

@@ -7,7 +7,7 @@ import math
 import pytest
 import torch
 
-from engine.rasterize_reference import rasterize_reference
+from engine.render.rasterize_reference import rasterize_reference
 
 K = torch.tensor([[50.0, 0, 16], [0, 50.0, 16], [0, 0, 1]], dtype=torch.float64)
 VIEW = torch.eye(4, dtype=torch.float64)
@@ -83,8 +83,8 @@ def test_gradients_match_finite_differences():
 def test_class_logits_blended_directly_equal_classifying_the_blended_identity(classes):
     """render() projects identities through the classifier before blending when that needs fewer channels
     (6 classes) and classifies the blended map otherwise (20): logits and gradients must not change."""
-    from engine.gaussians import init_from_points, new_classifier
-    from engine.rasterize import CameraTensors, render
+    from engine.io.gaussians import init_from_points, new_classifier
+    from engine.render.rasterize import CameraTensors, render
 
     gen = torch.Generator().manual_seed(0)
     points = torch.rand(60, 3, generator=gen, dtype=torch.float64) * 0.6 - 0.3

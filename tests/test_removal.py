@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 import torch
 
+from engine.base.errors import InputError
 from engine.cli import main
-from engine.errors import InputError
-from engine.holes import HoleConfig, run_holes
-from engine.ply_io import load_ply
-from engine.removal import RemovalConfig, run_removal
-from engine.trained_run import load_run
+from engine.edit.holes import HoleConfig, run_holes
+from engine.edit.removal import RemovalConfig, run_removal
+from engine.io.ply_io import load_ply
+from engine.train.trained_run import load_run
 
 
 @pytest.fixture(scope="module")

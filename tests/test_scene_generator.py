@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import json
-import zlib  # noqa: F401,I001  -- before pycolmap, see engine/colmap_model.py
+import zlib  # noqa: F401,I001  -- before pycolmap, see engine/io/colmap_model.py
 from pathlib import Path
 
 import cv2  # noqa: F401
@@ -12,8 +12,8 @@ import pycolmap
 import pytest
 from conftest import make_scene
 
-from engine.camera import backproject, pixel_grid, project
-from engine.scene import load_scene
+from engine.formats.cameras import backproject, pixel_grid, project
+from engine.io.scene import load_scene
 
 FOLDERS = ["images", "gt", "masks", "depth", "gt_depth", "holes"]
 

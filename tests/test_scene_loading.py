@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from engine.errors import InputError
-from engine.scene import load_scene
+from engine.base.errors import InputError
+from engine.io.scene import load_scene
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -87,7 +87,7 @@ def test_the_numpy_reader_agrees_with_pycolmap_on_binary_and_text_models(living_
     import zlib  # noqa: F401,I001  -- before pycolmap
     import pycolmap
 
-    from engine.colmap_model import read_model
+    from engine.io.colmap_model import read_model
 
     rec = pycolmap.Reconstruction(str(living_scene / "sparse" / "0"))
     rec.write_text(str(tmp_path))
@@ -112,7 +112,7 @@ def test_cli_reports_one_line_and_status_2(scene_copy: Path):
 
 def test_png_writes_after_loading_a_colmap_model(living_scene: Path, tmp_path: Path):
     """pycolmap 4.2.1 aborts the next zlib compression unless zlib loaded first: guard the import order."""
-    code = (f"from engine.scene import load_scene; load_scene({str(living_scene)!r}); "
+    code = (f"from engine.io.scene import load_scene; load_scene({str(living_scene)!r}); "
             f"import numpy as np, cv2; assert cv2.imwrite({str(tmp_path / 'x.png')!r}, np.zeros((4, 4), np.uint8)); "
             f"np.savez_compressed({str(tmp_path / 'y.npz')!r}, a=np.zeros(3))")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO)

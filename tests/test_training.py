@@ -13,14 +13,14 @@ from pathlib import Path
 import pytest
 import torch
 
-from engine.errors import InputError
-from engine.image_metrics import IoUCounter, psnr
-from engine.ply_io import load_ply
-from engine.rasterize import CameraTensors, render
-from engine.scene import load_scene
-from engine.train_config import TrainConfig
-from engine.train_run import train
-from engine.training import Trainer
+from engine.base.errors import InputError
+from engine.io.ply_io import load_ply
+from engine.io.scene import load_scene
+from engine.metrics.image_metrics import IoUCounter, psnr
+from engine.render.rasterize import CameraTensors, render
+from engine.train.config import TrainConfig
+from engine.train.run import train
+from engine.train.trainer import Trainer
 
 REPO = Path(__file__).resolve().parent.parent
 CPU = torch.device("cpu")
@@ -130,7 +130,7 @@ def test_a_run_never_overwrites_and_never_writes_into_the_scene(living_scene: Pa
 
 
 def test_pixel_cross_entropy_equals_torch_cross_entropy():
-    from engine.training import pixel_cross_entropy
+    from engine.train.trainer import pixel_cross_entropy
 
     gen = torch.Generator().manual_seed(0)
     logits = torch.randn(7, 9, 5, generator=gen, dtype=torch.float64) * 4
@@ -143,8 +143,8 @@ def test_budget_noise_equals_gsplat_mcmc_noise():
     """BudgetStrategy's position noise is gsplat's inject_noise_to_position, only computed differently."""
     from gsplat.strategy.ops import inject_noise_to_position
 
-    from engine.budget_strategy import inject_position_noise
-    from engine.gsplat_cpu import enable_cpu_mcmc
+    from engine.train.budget_strategy import inject_position_noise
+    from engine.train.gsplat_cpu import enable_cpu_mcmc
 
     enable_cpu_mcmc()
     gen = torch.Generator().manual_seed(0)

@@ -32,7 +32,7 @@ def test_manifest_validates():
 
 def test_zip_carries_the_code_but_no_environments_or_tests(extension_zip: Path):
     names = zipfile.ZipFile(extension_zip).namelist()
-    assert "blender_manifest.toml" in names and "engine/scene.py" in names and "operators/check_engine.py" in names
+    assert "blender_manifest.toml" in names and "engine/io/scene.py" in names and "operators/check_engine.py" in names
     assert not [n for n in names if n.startswith((".venv", "tests/", ".git"))]
 
 

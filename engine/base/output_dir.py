@@ -1,0 +1,39 @@
+"""Atomic output folders: work happens in a hidden temporary sibling that is renamed into place.
+
+So an interrupted or failed run never leaves a half-written folder, and existing results and inputs
+are never overwritten.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+from engine.base.errors import InputError
+
+
+def check_new_output(final: Path) -> None:
+    """Fail early when `final` already holds something."""
+    if final.exists() and (not final.is_dir() or any(final.iterdir())):
+        raise InputError(f"output {final} already exists and is not empty: choose a new folder or delete it")
+
+
+@contextmanager
+def atomic_output_dir(final: Path) -> Iterator[Path]:
+    """Yield a temporary folder; on success it becomes `final`, on any error it is removed."""
+    final = Path(final)
+    check_new_output(final)
+    final.parent.mkdir(parents=True, exist_ok=True)
+    tmp = final.parent / f".{final.name}.tmp-{os.getpid()}"
+    shutil.rmtree(tmp, ignore_errors=True)
+    tmp.mkdir()
+    try:
+        yield tmp
+        if final.exists():
+            final.rmdir()  # empty, checked above
+        tmp.rename(final)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)

@@ -1,0 +1,145 @@
+"""FT-<inpainter>(3 | All): finetune the removed scene into its hole, with the originals frozen for real.
+
+The published code means to freeze the original Gaussians and does not (nn.Parameter re-enables their
+gradients; ../shared/reference/algorithms.md). Here the Trainer zeroes their gradient rows before every
+optimizer step, so Adam never moves them; a test compares them bit for bit before and after.
+
+Start: the removed scene's Gaussians (frozen) plus new ones where the reference views' inpainted depth puts
+the hole's surface: every other hole pixel back-projected, coloured from the inpainted image. Reference
+views: the 3 training views with the largest holes (FT(3); 3DGIC takes the one with the largest mask), or
+every training view with a hole (FT(All)). Losses, after the paper's supplement: on reference views L1
+inside the hole against the inpainted image plus L1 of rendered against inpainted depth there; on the other
+views with a hole a perceptual term on the square crop around the hole (engine.metrics.scores.hole_crop): LPIPS,
+or L1 when the user names "l1" (the results then say so); on every view the grouping terms (identity
+cross-entropy with the object's id as background, the 3D regulariser). No densification and no opacity
+reset: both would change the frozen Gaussians.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from engine.base.errors import InputError
+from engine.formats.cameras import backproject, pixel_grid
+from engine.inpaint.run import inpainted_dilation
+from engine.io.gaussians import PARAM_NAMES, Gaussians, init_from_points
+from engine.io.image_io import exr_name, read_depth, read_png
+from engine.io.masks import read_masks
+from engine.io.ply_io import load_ply
+from engine.io.scene import Scene
+from engine.metrics.scores import hole_crop
+from engine.train.config import TrainConfig
+from engine.train.trained_run import TrainedRun
+from engine.train.trainer import Trainer, grouping_terms
+
+PERCEPTUAL = ("lpips", "l1")
+
+
+def reference_views(holes: dict[int, np.ndarray], train: list[int], count: int) -> list[int]:
+    """The `count` training views with the largest holes (0: every training view with a hole)."""
+    ranked = sorted((i for i in train if holes[i].any()), key=lambda i: -int(holes[i].sum()))
+    return ranked if count == 0 else ranked[:count]
+
+
+def hole_gaussians(scene: Scene, holes: dict[int, np.ndarray], depths: dict[int, np.ndarray], inpainted: Path,
+                   sh_degree: int, seed: int, stride: int = 2, opacity: float = 0.5) -> Gaussians:
+    """New Gaussians on the inpainted surface (`depths`, one per reference view) of the reference views'
+    holes, every `stride`-th pixel, each as wide as half the pixels it stands for (sigma = stride / 2 pixels
+    at its depth). Why not 3DGS's nearest-neighbour size: a few hundred points spread over a small hole are
+    far apart, so they came out three pixels wide and spilled well outside the hole; the losses outside it
+    then faded them out (measured on the tiny run: mean opacity 0.5 -> 0.05, and the hole got worse)."""
+    points, colors, sizes = [], [], []
+    for i, depth in depths.items():
+        camera = scene.cameras[i]
+        image = read_png(inpainted / "images" / camera.name)
+        take = holes[i] & np.isfinite(depth) & (depth > 0)
+        grid = np.zeros_like(take)
+        grid[::stride, ::stride] = True
+        take &= grid
+        u, v = pixel_grid(camera)
+        points.append(backproject(camera, u[take], v[take], depth[take]))
+        colors.append(image[take])
+        sizes.append(depth[take] * stride / 2 / np.sqrt(camera.fx * camera.fy))
+    points, colors = np.concatenate(points), np.concatenate(colors)
+    if len(points) < 4:
+        raise InputError(f"the reference views' holes hold {len(points)} pixels with inpainted depth: nothing to "
+                         "finetune (check RUN/holes and the inpainted depth)")
+    return init_from_points(points, colors, sh_degree, opacity, seed, sizes=np.concatenate(sizes))
+
+
+def nearest_identity(means: torch.Tensor, frozen: Gaussians, chunk: int = 4096) -> torch.Tensor:
+    """Each new Gaussian's identity from the nearest frozen one. A random identity, as a fresh Gaussian gets,
+    makes the cross-entropy cheapest to lower by fading the new Gaussians out (measured: their mean opacity
+    fell from 0.5 to 0.03 on the tiny run and the hole stayed as it was)."""
+    nearest = torch.cat([torch.cdist(part, frozen["means"]).argmin(dim=1) for part in means.split(chunk)])
+    return frozen["identity"][nearest].clone()
+
+
+class FinetuneObjective:
+    needs_depth = True
+
+    def __init__(self, holes: dict[int, np.ndarray], refs: list[int], depths: dict[int, np.ndarray],
+                 perceptual: str, device: torch.device, lpips=None) -> None:
+        self.holes = {i: torch.as_tensor(h, device=device) for i, h in holes.items()}
+        self.crops = {i: hole_crop(h) for i, h in holes.items() if h.any()}
+        self.refs = set(refs)
+        self.depths = {i: torch.as_tensor(d, device=device) for i, d in depths.items()}
+        self.perceptual, self.lpips = perceptual, lpips
+
+    def __call__(self, trainer: Trainer, view: int, out, target: torch.Tensor) -> torch.Tensor:
+        hole = self.holes[view]
+        if view in self.refs:
+            truth = self.depths[view]
+            known = hole & torch.isfinite(truth)
+            loss = (out.rgb - target).abs()[hole].mean()
+            if known.any():
+                loss = loss + (out.depth - truth).abs()[known].mean() / truth[known].mean()
+        else:
+            rows, cols = self.crops[view]
+            a, b = out.rgb[rows, cols], target[rows, cols]
+            if self.perceptual == "lpips":
+                loss = self.lpips.distance(a.permute(2, 0, 1)[None], b.permute(2, 0, 1)[None]).mean()
+            else:
+                loss = (a - b).abs().mean()
+        return loss + grouping_terms(trainer, view, out)
+
+
+def finetune_setup(settings: TrainConfig, original: TrainedRun, removed: Path, inpainted: Path, holes_dir: Path,
+                   refs_count: int, perceptual: str, steps: int, seed: int, device: torch.device,
+                   lpips_paths: tuple[str, str]) -> tuple[TrainConfig, dict]:
+    """The training settings and Trainer plug-ins of a finetuning run (see the module docstring). The
+    identity classifier starts as the original run trained it, so the frozen Gaussians' identities keep
+    their meaning from the first step."""
+    scene = original.scene
+    if perceptual not in PERCEPTUAL:
+        raise InputError(f"perceptual term {perceptual!r} unknown: choose from {', '.join(PERCEPTUAL)}")
+    lpips = None
+    if perceptual == "lpips":
+        from engine.metrics.lpips_metric import Lpips
+
+        try:
+            lpips = Lpips(*lpips_paths).to(device)
+        except InputError as exc:
+            raise InputError(f"{exc} (or finetune with --perceptual l1, which the results then name)") from exc
+    if not holes_dir.is_dir():
+        raise InputError(f"{holes_dir} missing: run `python -m engine holes` on the run first")
+    holes = read_masks(holes_dir, scene.cameras, inpainted_dilation(inpainted))
+    refs = reference_views(holes, scene.train, refs_count)
+    if not refs:
+        raise InputError(f"no training view has a hole in {holes_dir}: nothing to finetune")
+    frozen = load_ply(removed / "point_cloud.ply")
+    depths = {i: read_depth(inpainted / "depth" / exr_name(scene.cameras[i].name)) for i in refs}
+    new = hole_gaussians(scene, holes, depths, inpainted, settings.sh_degree, seed)
+    new["identity"] = nearest_identity(new["means"], frozen)
+    start = {k: torch.cat([frozen[k].float(), new[k].float()]) for k in PARAM_NAMES}
+    config = dataclasses.replace(settings, steps=steps, seed=seed, max_gaussians=0, refine_start=steps + 1,
+                                 refine_stop=steps + 1, reset_every=10**9, sh_degree_interval=1)
+    objective = FinetuneObjective(holes, refs, depths, perceptual, device, lpips)
+    views = [i for i in scene.train if holes[i].any()]
+    return config, {"start": start, "frozen": len(frozen["means"]), "objective": objective, "views": views,
+                    "classifier": copy.deepcopy(original.classifier)}

@@ -1,0 +1,121 @@
+"""Stage 3: depth-guided hole masks (3DGIC's idea, without the published code's two bugs).
+
+For each view, the candidate pixels are the removed object's region (removed/masks). Each is lifted to the
+surface the *removed* scene renders there (removed/depth) and tested against every training view's
+*original* rendered depth: the point counts as seen when it lies in front of the view (z > 0), inside its
+frame, not behind the surface that view saw (within a relative tolerance), and not inside that view's
+object region (3DGIC's background-only source pixels): where the object touches its support the depths
+of the two differ by less than any tolerance, so the masks decide. A pixel no view sees is hole. This is
+backward warping (engine.io.visibility, the test the scene generator uses for its exact holes/, there without
+masks): no forward-splatting pinholes, no last-write-wins,
+and the depth compared is the point's z in the testing view, not the source view's depth value. Pixels
+where the removed scene renders no surface (alpha below 0.5: the unseen underside of the object was never
+reconstructed) are hole as well; the generator's exact test counts them as seen, since for it an
+infinite depth is open sky.
+
+Before warping, rays of the object's region that the removed render lets through the support (the table
+under the object was never built, so the render shows its underside, which side views saw) are stopped at
+the support plane fitted around the object (engine.edit.support_plane). Optional: a margin around each view's
+object mask that hides too, and dilation of the result (LaMa wants larger masks; the paper dilates).
+Measured choices in docs/BENCHMARKS.md.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from engine.base.device import pick_device
+from engine.base.errors import InputError
+from engine.base.output_dir import atomic_output_dir
+from engine.base.progress import Progress, emit
+from engine.edit.support_plane import stop_at_plane, support_plane
+from engine.io.image_io import exr_name, read_depth, read_png, write_png
+from engine.io.masks import dilate
+from engine.io.visibility import DEFAULT_REL_TOL, unseen_mask
+from engine.pictures.preview import label, overlay
+from engine.render.render_views import render_pictures
+from engine.train.trained_run import load_run
+
+
+@dataclass
+class HoleConfig:
+    run: str = ""
+    removed: str = ""  # default RUN/removed
+    out: str = ""  # default RUN/holes
+    scene: str = ""  # default: the scene named in the run's config.json
+    rel_tol: float = DEFAULT_REL_TOL  # depth test tolerance, relative to depth (see docs/BENCHMARKS.md)
+    dilate: int = 0  # px added around each hole afterwards
+    support_plane: bool = True  # stop rays that see through the missing support patch at its plane
+    occluder_margin: float = 0.0  # band around each view's object region that hides too, x image diagonal
+    device: str = "auto"
+
+
+def iou(a: np.ndarray, b: np.ndarray) -> float:
+    union = np.logical_or(a, b).sum()
+    return float(np.logical_and(a, b).sum() / union) if union else 1.0
+
+
+def run_holes(config: HoleConfig) -> dict:
+    run = load_run(config.run, config.scene or None)
+    removed = Path(config.removed) if config.removed else run.root / "removed"
+    out = Path(config.out) if config.out else run.root / "holes"
+    if not (removed / "removal.json").is_file():
+        raise InputError(f"{removed}/removal.json missing: run `python -m engine remove --run {run.root} ...` first")
+    scene, device = run.scene, pick_device(config.device)
+    train_cameras = [scene.cameras[i] for i in scene.train]
+    progress = Progress("holes: original depth", len(train_cameras))
+    seen_depths = []
+    for k, picture in enumerate(render_pictures(run.gaussians, train_cameras, run.sh_degree, device)):
+        seen_depths.append(picture.depth)
+        progress.update(k + 1)
+    progress.close()
+    regions = [read_png(removed / "masks" / camera.name, kind="mask") > 0 for camera in scene.cameras]
+    plane = (support_plane(train_cameras, [regions[i] for i in scene.train], seen_depths, config.rel_tol)
+             if config.support_plane else None)
+    # the object's region in each training view: it hid whatever lies behind it there
+    occluders = [dilate(regions[i], round(config.occluder_margin * np.hypot(scene.cameras[i].width,
+                                                                         scene.cameras[i].height)))
+                 for i in scene.train]
+    views, sheet = [], []
+    with atomic_output_dir(out) as tmp:
+        progress = Progress("holes", len(scene.cameras))
+        for i, camera in enumerate(scene.cameras):
+            region = regions[i]
+            background = read_depth(removed / "depth" / exr_name(camera.name))
+            if plane is not None:
+                background = stop_at_plane(camera, region, background, plane, config.rel_tol)
+            # where the removed scene renders no surface at all, nothing is there to show: hole
+            hole = unseen_mask(camera, region, background, train_cameras, seen_depths, config.rel_tol,
+                               occluders)
+            hole = dilate(hole | (region & ~np.isfinite(background)), config.dilate)
+            write_png(tmp / camera.name, hole.astype(np.uint8) * 255)
+            record = {"view": camera.name, "region_px": int(region.sum()), "hole_px": int(hole.sum())}
+            if i in scene.holes:
+                record["iou_vs_truth"] = iou(hole, scene.holes[i])
+            views.append(record)
+            if len(sheet) < 6 and i in scene.test:
+                removed_rgb = read_png(removed / "images" / camera.name)
+                sheet.append(np.concatenate([label(overlay(scene.images[i], region), f"{camera.name} region"),
+                                             label(overlay(removed_rgb, hole), "hole")]
+                                            + ([label(overlay(scene.gt_images[i], scene.holes[i], (0, 255, 0)),
+                                                      "true hole")] if i in scene.holes and i in scene.gt_images
+                                               else []), axis=1))
+            progress.update(i + 1)
+        progress.close()
+        if sheet:
+            write_png(tmp / "sheet.png", np.concatenate(sheet, axis=0))
+        scored = [v["iou_vs_truth"] for v in views if "iou_vs_truth" in v]
+        with_region = [v for v in views if v["region_px"]]
+        report = {"config": dataclasses.asdict(config), "views": views,
+                  "mean_iou_vs_truth": float(np.mean(scored)) if scored else None, "views_scored": len(scored),
+                  "support_plane": None if plane is None else [*plane[0].round(5).tolist(), round(plane[1], 5)],
+                  "hole_to_region": (float(np.mean([v["hole_px"] / v["region_px"] for v in with_region]))
+                                     if with_region else None)}
+        (tmp / "holes.json").write_text(json.dumps(report, indent=1))
+    emit("done", stage="holes", out=str(out), mean_iou_vs_truth=report["mean_iou_vs_truth"])
+    return report

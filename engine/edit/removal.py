@@ -1,0 +1,167 @@
+"""Stage 2: delete an object's Gaussians, by identity (Gaussian Grouping) or by a 3D box.
+
+By identity: softmax(classifier(identity)) per Gaussian, removed where the object's probability exceeds
+`threshold`. Gaussian Grouping then adds every Gaussian inside the convex hull of the selection, which can
+swallow the table the object stands on; here the optional clean-up is the object's *visual hull* from the
+scene's masks instead: a Gaussian goes when it projects into the object's mask (dilated by a few pixels)
+in every training view that has it in frame. A table Gaussian seen beside the object in any one view stays.
+
+The output folder (default RUN/removed) holds the remaining Gaussians as a standard PLY, renders of every
+view (images/, depth/), the object's mask per view (masks/, the region stage 3 looks for holes in),
+removal.json (selection counts, config, PSNR against gt/ on test views outside the true hole, and on the
+revealed part of the object's region that other views saw: remnants of the object show there; gt/ also
+lacks the object's shadow, which bounds the first number), and a contact sheet.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from engine.base.device import pick_device
+from engine.base.errors import InputError
+from engine.base.output_dir import atomic_output_dir
+from engine.base.progress import Progress, emit
+from engine.formats.cameras import Camera, project, sample_nearest
+from engine.io.gaussians import Gaussians
+from engine.io.image_io import exr_name, write_depth, write_png
+from engine.io.masks import dilate
+from engine.io.ply_io import save_ply
+from engine.metrics.image_metrics import psnr
+from engine.pictures.preview import label, overlay
+from engine.render.render_views import render_pictures
+from engine.train.trained_run import TrainedRun, load_run
+
+
+@dataclass
+class RemovalConfig:
+    run: str = ""
+    object: str = ""  # id or name from the scene's objects.json; empty with --box
+    box: list[float] = field(default_factory=list)  # x0 y0 z0 x1 y1 z1 (world), instead of an object
+    threshold: float = 0.3  # object probability above which a Gaussian is removed (see docs/BENCHMARKS.md)
+    hull: bool = True  # also remove Gaussians inside the object's visual hull (needs masks)
+    hull_dilate: int = 2  # px added around the masks for the hull test
+    out: str = ""  # default RUN/removed
+    scene: str = ""  # default: the scene named in the run's config.json
+    device: str = "auto"
+
+
+def object_probability(identity: torch.Tensor, classifier: torch.nn.Linear, object_id: int) -> torch.Tensor:
+    """(N,) probability of `object_id` for each Gaussian's identity encoding (N, 16)."""
+    if object_id >= classifier.out_features:
+        raise InputError(f"object id {object_id} is beyond the classifier's {classifier.out_features} classes")
+    with torch.no_grad():
+        return torch.softmax(classifier(identity.float()), dim=-1)[:, object_id]
+
+
+def inside_box(means: np.ndarray, box: list[float]) -> np.ndarray:
+    if len(box) != 6:
+        raise InputError(f"--box needs 6 numbers x0 y0 z0 x1 y1 z1, got {len(box)}")
+    lo, hi = np.minimum(box[:3], box[3:]), np.maximum(box[:3], box[3:])
+    return np.all((means >= lo) & (means <= hi), axis=1)
+
+
+def inside_visual_hull(means: np.ndarray, cameras: list[Camera], masks: list[np.ndarray], min_views: int = 3
+                       ) -> np.ndarray:
+    """(N,) bool: in frame in at least `min_views` views and inside the mask in every view that frames it."""
+    framed = np.zeros(len(means), dtype=np.int32)
+    inside = np.zeros(len(means), dtype=np.int32)
+    for camera, mask in zip(cameras, masks, strict=True):
+        u, v, z = project(camera, means)
+        hit, in_frame = sample_nearest(mask, u, v)
+        in_frame &= z > 0
+        framed += in_frame
+        inside += in_frame & hit
+    return (framed >= min_views) & (inside == framed)
+
+
+def select(run: TrainedRun, config: RemovalConfig) -> tuple[np.ndarray, dict]:
+    """(N,) bool Gaussians to remove, and how many each rule picked."""
+    means = run.gaussians["means"].numpy()
+    if config.box:
+        chosen = inside_box(means, config.box)
+        return chosen, {"box": int(chosen.sum())}
+    obj = run.scene.object_by(config.object)
+    chosen = (object_probability(run.gaussians["identity"], run.classifier, obj.id) > config.threshold).numpy()
+    counts = {"identity": int(chosen.sum())}
+    if config.hull and run.scene.masks is not None:
+        views = run.scene.train
+        masks = [dilate(run.scene.masks[i] == obj.id, config.hull_dilate) for i in views]
+        hull = inside_visual_hull(means, [run.scene.cameras[i] for i in views], masks)
+        counts["hull_only"] = int((hull & ~chosen).sum())
+        chosen |= hull
+    return chosen, counts
+
+
+def keep(gaussians: Gaussians, removed: np.ndarray) -> Gaussians:
+    index = torch.from_numpy(~removed)
+    return {k: v[index] for k, v in gaussians.items()}
+
+
+def run_removal(config: RemovalConfig) -> dict:
+    """Remove the object, render every view of what remains, and write the output folder atomically."""
+    if bool(config.box) == bool(config.object):
+        raise InputError("give either --object ID_OR_NAME or --box x0 y0 z0 x1 y1 z1")
+    config = dataclasses.replace(config, box=[float(v) for v in config.box])
+    run = load_run(config.run, config.scene or None)
+    out = Path(config.out) if config.out else run.root / "removed"
+    device = pick_device(config.device)
+    removed, counts = select(run, config)
+    remaining = keep(run.gaussians, removed)
+    scene = run.scene
+    obj = scene.object_by(config.object) if config.object else None
+    with atomic_output_dir(out) as tmp:
+        save_ply(tmp / "point_cloud.ply", remaining)
+        progress = Progress("removal", len(scene.cameras))
+        # the object's region: the scene's masks, else the original's rendered labels; for a box, where
+        # the removed Gaussians alone cover a pixel (renders only when the masks do not say)
+        if obj is not None and scene.masks is not None:
+            regions = [None] * len(scene.cameras)
+        else:
+            source = run.gaussians if obj is not None else keep(run.gaussians, ~removed)
+            regions = render_pictures(source, scene.cameras, run.sh_degree, device, run.classifier)
+        after = render_pictures(remaining, scene.cameras, run.sh_degree, device)
+        scores, revealed, sheet = [], [], []
+        for i, (camera, original, picture) in enumerate(zip(scene.cameras, regions, after, strict=True)):
+            region = _object_region(scene, i, obj, original)
+            write_png(tmp / "images" / camera.name, picture.rgb)
+            write_depth(tmp / "depth" / exr_name(camera.name), picture.depth)
+            write_png(tmp / "masks" / camera.name, region.astype(np.uint8) * 255)
+            if i in scene.gt_images and i in scene.holes and i in scene.test:
+                scores.append(_psnr_where(picture.rgb, scene.gt_images[i], ~scene.holes[i]))
+                if (region & ~scene.holes[i]).any():
+                    revealed.append(_psnr_where(picture.rgb, scene.gt_images[i], region & ~scene.holes[i]))
+            if len(sheet) < 6 and i in scene.test:
+                sheet.append(np.concatenate([label(scene.images[i], f"{camera.name} input"),
+                                             label(overlay(scene.images[i], region), "object region"),
+                                             label(picture.rgb, "removed")], axis=1))
+            progress.update(i + 1)
+        progress.close()
+        if sheet:
+            write_png(tmp / "sheet.png", np.concatenate(sheet, axis=0))
+        report = {"config": dataclasses.asdict(config), "object": dataclasses.asdict(obj) if obj else None,
+                  "gaussians_before": int(len(removed)), "removed": int(removed.sum()),
+                  "gaussians_after": int((~removed).sum()), "selected_by": counts,
+                  "psnr_outside_hole": float(np.mean(scores)) if scores else None,
+                  "psnr_revealed": float(np.mean(revealed)) if revealed else None, "views_scored": len(scores)}
+        (tmp / "removal.json").write_text(json.dumps(report, indent=1))
+    emit("done", stage="removal", out=str(out), removed=report["removed"],
+         psnr_outside_hole=report["psnr_outside_hole"])
+    return report
+
+
+def _psnr_where(image: np.ndarray, truth: np.ndarray, where: np.ndarray) -> float:
+    return psnr(torch.from_numpy(image[where]) / 255.0, torch.from_numpy(truth[where]) / 255.0)
+
+
+def _object_region(scene, i: int, obj, picture) -> np.ndarray:
+    if obj is None:
+        return np.isfinite(picture.depth)
+    if scene.masks is not None:
+        return scene.masks[i] == obj.id
+    return picture.labels == obj.id

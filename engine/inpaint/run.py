@@ -1,0 +1,121 @@
+"""Stage 4 over a run: inpaint every view's hole in the removed scene's renders, RGB and depth.
+
+Reads RUN/removed/{images,depth} and RUN/holes, writes RUN/inpainted/<inpainter>/{images,depth}, config.json
+with timings and the prompt, and sheet_test.png / sheet_train.png (input, removed, hole, inpainted RGB and
+depth per view) atomically. A view with an empty hole is copied through untouched. The mask can be dilated
+first: LaMa fills larger masks better (the paper dilates). With source "input" (the direct baseline,
+RUN/inpainted/direct-<inpainter>) the object's whole region is filled in the input images instead, RGB
+only; an inpainter that takes no mask (nanobanana, the paper's Init-NanoBanana) always works that way.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from engine.base.errors import InputError
+from engine.base.output_dir import atomic_output_dir
+from engine.base.progress import Progress, emit
+from engine.inpaint.inpainters import create
+from engine.io.image_io import exr_name, read_depth, read_png, write_depth, write_png
+from engine.io.masks import dilate
+from engine.pictures.preview import colorize_depth, label, overlay
+from engine.train.trained_run import load_run_scene
+
+SHEET_ROWS = 6
+
+
+def inpainted_dilation(inpainted: Path) -> int:
+    """The px an inpainting run grew its masks by (from its config.json): what it filled beyond the holes."""
+    return json.loads((inpainted / "config.json").read_text())["config"].get("dilate", 0)
+
+
+@dataclass
+class InpaintConfig:
+    run: str = ""
+    inpainter: str = "fsr"
+    model: str = ""  # lama: .pt/.onnx (LAMA_MODEL); diffusion: diffusers folder (DIFFUSION_MODEL); nanobanana: name
+    depth_range: str = "foreground"  # global | foreground (the paper's two depth representations)
+    dilate: int = 0  # px added to the hole masks before inpainting
+    prompt: str = ""  # default: the paper's (diffusion: generic; nanobanana: per scene family)
+    source: str = "removed"  # removed: the holes of the removed renders; input: the object in the input images
+    removed: str = ""  # default RUN/removed
+    holes: str = ""  # default RUN/holes
+    out: str = ""  # default RUN/inpainted/<inpainter>
+
+
+def _inpainter(config: InpaintConfig):
+    options = {"depth_range": config.depth_range}
+    if config.model:
+        options["model"] = config.model
+    return create(config.inpainter, **options)
+
+
+def run_inpaint(config: InpaintConfig) -> dict:
+    root = Path(config.run)
+    removed = Path(config.removed) if config.removed else root / "removed"
+    holes = Path(config.holes) if config.holes else root / "holes"
+    inpainter = _inpainter(config)
+    direct = config.source == "input" or not inpainter.uses_mask
+    if config.source not in ("removed", "input"):
+        raise InputError(f"source {config.source!r} unknown: use 'removed' or 'input'")
+    out = Path(config.out) if config.out else root / "inpainted" / (f"direct-{config.inpainter}" if direct
+                                                                     else config.inpainter)
+    needed = [(removed, "remove")] if inpainter.uses_mask else []
+    for folder, command in needed + ([] if direct else [(holes, "holes")]):
+        if not folder.is_dir():
+            raise InputError(f"{folder} missing: run `python -m engine {command} --run {root}` first")
+    scene = load_run_scene(root)
+    prompt = config.prompt or inpainter.default_prompt(scene.root)
+    sheets: dict[str, list[np.ndarray]] = {"test": [], "train": []}
+    seconds = 0.0
+    with atomic_output_dir(out) as tmp:
+        progress = Progress(f"inpaint {config.inpainter}", len(scene.cameras))
+        for i, camera in enumerate(scene.cameras):
+            start = time.perf_counter()
+            if not direct:
+                row = _fill_hole(inpainter, config, prompt, scene.images[i], camera.name, removed, holes, tmp)
+            else:  # the direct baseline: the object painted out of the input image (its region), RGB only
+                region = (dilate(read_png(removed / "masks" / camera.name, kind="mask") > 0, config.dilate)
+                          if inpainter.uses_mask else None)
+                filled = inpainter.inpaint(scene.images[i], region, "rgb", prompt)
+                write_png(tmp / "images" / camera.name, filled)
+                row = np.concatenate([label(scene.images[i], f"{camera.name} input"), label(filled, "inpainted")], 1)
+            seconds += time.perf_counter() - start
+            split = "test" if i in scene.test else "train"
+            if row is not None and len(sheets[split]) < SHEET_ROWS:
+                sheets[split].append(row)
+            progress.update(i + 1)
+        progress.close()
+        for split, rows in sheets.items():
+            if rows:
+                write_png(tmp / f"sheet_{split}.png", np.concatenate(rows, axis=0))
+        report = {"config": dataclasses.asdict(config), "prompt": prompt, "views": len(scene.cameras),
+                  "inpaint_seconds": round(seconds, 2)}
+        (tmp / "config.json").write_text(json.dumps(report, indent=1))
+    emit("done", stage="inpaint", out=str(out), seconds=report["inpaint_seconds"])
+    return report
+
+
+def _fill_hole(inpainter, config: InpaintConfig, prompt: str | None, image: np.ndarray, name: str,
+               removed: Path, holes: Path, out: Path) -> np.ndarray | None:
+    """Inpaint one view's hole in the removed render, RGB and depth; its sheet row, or None if no hole."""
+    rgb = read_png(removed / "images" / name)
+    depth = read_depth(removed / "depth" / exr_name(name))
+    hole = dilate(read_png(holes / name, kind="mask") > 0, config.dilate)
+    filled = inpainter.inpaint(rgb, hole, "rgb", prompt)
+    filled_depth = inpainter.inpaint(depth, hole, "depth", prompt)
+    write_png(out / "images" / name, filled)
+    write_depth(out / "depth" / exr_name(name), filled_depth)
+    return _sheet_row(image, rgb, hole, filled, filled_depth, name) if hole.any() else None
+
+
+def _sheet_row(image, removed, hole, filled, filled_depth, name) -> np.ndarray:
+    return np.concatenate([label(image, f"{name} input"), label(removed, "removed"),
+                           label(overlay(removed, hole), "hole"), label(filled, "inpainted"),
+                           label(colorize_depth(filled_depth), "inpainted depth")], axis=1)

@@ -1,0 +1,134 @@
+"""Reading COLMAP models (binary or text) with numpy alone.
+
+Loading a scene therefore never imports pycolmap (whose 4.2.1 wheel breaks zlib when imported first,
+and weighs 38 MB); pycolmap is used only to write models (engine.io.colmap_model.write_model), and the tests
+check that both agree. Format: COLMAP's `src/colmap/scene/reconstruction_io.cc` (cameras, images, points3D).
+"""
+
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from engine.base.errors import InputError
+
+MODELS = {  # model id: (name, number of parameters)
+    0: ("SIMPLE_PINHOLE", 3), 1: ("PINHOLE", 4), 2: ("SIMPLE_RADIAL", 4), 3: ("RADIAL", 5), 4: ("OPENCV", 8),
+    5: ("OPENCV_FISHEYE", 8), 6: ("FULL_OPENCV", 12), 7: ("FOV", 5), 8: ("SIMPLE_RADIAL_FISHEYE", 4),
+    9: ("RADIAL_FISHEYE", 5), 10: ("THIN_PRISM_FISHEYE", 12), 11: ("RAD_TAN_THIN_PRISM_FISHEYE", 16),
+}
+PARAM_COUNTS = {name: count for name, count in MODELS.values()}
+
+
+@dataclass
+class RawCamera:
+    model: str
+    width: int
+    height: int
+    params: np.ndarray
+
+
+@dataclass
+class RawImage:
+    name: str
+    camera_id: int
+    qvec: np.ndarray  # (4,) w, x, y, z: world-to-camera rotation
+    tvec: np.ndarray  # (3,) world-to-camera translation
+
+
+class _Reader:
+    """Sequential little-endian reads with a clear error at the end of the data."""
+
+    def __init__(self, path: Path) -> None:
+        self.path, self.data, self.pos = path, path.read_bytes(), 0
+
+    def read(self, fmt: str) -> tuple:
+        size = struct.calcsize("<" + fmt)
+        if self.pos + size > len(self.data):
+            raise InputError(f"{self.path} is truncated (ends at byte {len(self.data)}); re-export the COLMAP model")
+        values = struct.unpack_from("<" + fmt, self.data, self.pos)
+        self.pos += size
+        return values
+
+    def read_string(self) -> str:
+        end = self.data.find(b"\0", self.pos)
+        if end < 0:
+            raise InputError(f"{self.path} is truncated inside an image name; re-export the COLMAP model")
+        text = self.data[self.pos:end].decode("utf-8", errors="replace")
+        self.pos = end + 1
+        return text
+
+    def skip(self, nbytes: int) -> None:
+        if self.pos + nbytes > len(self.data):
+            raise InputError(f"{self.path} is truncated; re-export the COLMAP model")
+        self.pos += nbytes
+
+
+def read_cameras(path: Path) -> dict[int, RawCamera]:
+    cameras = {}
+    if path.suffix == ".txt":
+        for fields in _text_records(path):
+            model = fields[1]
+            cameras[int(fields[0])] = RawCamera(model, int(fields[2]), int(fields[3]),
+                                                np.array(fields[4:], dtype=np.float64))
+        return cameras
+    r = _Reader(path)
+    for _ in range(r.read("Q")[0]):
+        camera_id, model_id, width, height = r.read("iiQQ")
+        if model_id not in MODELS:
+            raise InputError(f"{path}: unknown camera model id {model_id}; the file is corrupt")
+        name, count = MODELS[model_id]
+        cameras[camera_id] = RawCamera(name, width, height, np.array(r.read(f"{count}d")))
+    return cameras
+
+
+def read_images(path: Path) -> dict[int, RawImage]:
+    images = {}
+    if path.suffix == ".txt":
+        records = _text_records(path, keep_empty=True)
+        for fields in records[0::2]:  # every other line lists the image's 2D points
+            images[int(fields[0])] = RawImage(fields[9], int(fields[8]), np.array(fields[1:5], dtype=np.float64),
+                                              np.array(fields[5:8], dtype=np.float64))
+        return images
+    r = _Reader(path)
+    for _ in range(r.read("Q")[0]):
+        image_id, qw, qx, qy, qz, tx, ty, tz, camera_id = r.read("idddddddi")
+        name = r.read_string()
+        r.skip(24 * r.read("Q")[0])  # points2D: x, y (double) and point3D id (int64)
+        images[image_id] = RawImage(name, camera_id, np.array([qw, qx, qy, qz]), np.array([tx, ty, tz]))
+    return images
+
+
+def read_points(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """(N, 3) float64 positions and (N, 3) uint8 colours, ordered by point id."""
+    rows: list[tuple[int, tuple, tuple]] = []
+    if path.suffix == ".txt":
+        for fields in _text_records(path):
+            rows.append((int(fields[0]), tuple(map(float, fields[1:4])), tuple(map(int, fields[4:7]))))
+    else:
+        r = _Reader(path)
+        for _ in range(r.read("Q")[0]):
+            point_id, x, y, z, red, green, blue, _error, track = r.read("QdddBBBdQ")
+            r.skip(8 * track)  # (image id, point2D index) int32 pairs
+            rows.append((point_id, (x, y, z), (red, green, blue)))
+    rows.sort(key=lambda row: row[0])
+    xyz = np.array([row[1] for row in rows], dtype=np.float64).reshape(-1, 3)
+    rgb = np.array([row[2] for row in rows], dtype=np.uint8).reshape(-1, 3)
+    return xyz, rgb
+
+
+def _text_records(path: Path, keep_empty: bool = False) -> list[list[str]]:
+    lines = path.read_text(errors="replace").splitlines()
+    records = [line.split() for line in lines if not line.startswith("#") and (keep_empty or line.strip())]
+    return records
+
+
+def quat_to_rotation(q: np.ndarray) -> np.ndarray:
+    """(3, 3) rotation from a unit quaternion w, x, y, z."""
+    w, x, y, z = q / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])

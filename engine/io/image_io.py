@@ -1,0 +1,106 @@
+"""Reading and writing the images of a scene folder: PNG (colour, ids, masks) and EXR (depth).
+
+Conventions: colour arrays are (H, W, 3) uint8 RGB; id masks (H, W) uint8; depth (H, W) float32
+z-depth along the camera axis in scene units (inf where no surface).
+"""
+
+from __future__ import annotations
+
+import zlib  # noqa: F401  -- must load before pycolmap anywhere in the process (see colmap_model)
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from engine.base.errors import InputError
+
+
+def read_png(path: Path, kind: str = "image") -> np.ndarray:
+    """Read a PNG (or any format OpenCV reads) as RGB uint8 (H, W, 3), or (H, W) for masks."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"missing {kind} file {path}: restore it or regenerate the scene")
+    flag = cv2.IMREAD_UNCHANGED if kind == "mask" else cv2.IMREAD_COLOR
+    array = cv2.imread(str(path), flag)
+    if array is None:
+        raise InputError(f"cannot decode {kind} file {path}: it is corrupt or not an image; replace it")
+    if kind == "mask":
+        if array.ndim == 3:
+            array = array[..., 0]
+        if array.dtype != np.uint8:
+            raise InputError(f"mask {path} is {array.dtype}; masks must be 8-bit id PNGs (0 = background)")
+        return array
+    return cv2.cvtColor(array, cv2.COLOR_BGR2RGB)
+
+
+def write_png(path: Path, array: np.ndarray) -> None:
+    """Write (H, W, 3) RGB or (H, W) single-channel uint8 as PNG, creating the folder."""
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    array = np.ascontiguousarray(array)
+    if array.ndim == 3:
+        array = cv2.cvtColor(array, cv2.COLOR_RGB2BGR)
+    if not cv2.imwrite(str(path), array):
+        raise InputError(f"cannot write {path}: check that the folder exists and is writable")
+
+
+def read_exr_channels(path: Path) -> dict[str, np.ndarray]:
+    """All channels of an EXR, single- or multi-part, as {channel name: (H, W) float32}."""
+    import OpenImageIO as oiio  # only EXR needs it; training-only machines can do without
+
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"missing EXR file {path}: restore it or regenerate the scene")
+    buf = oiio.ImageBuf(str(path))
+    if buf.has_error:
+        raise InputError(f"cannot read EXR {path}: {buf.geterror().splitlines()[0]}; replace the file")
+    channels: dict[str, np.ndarray] = {}
+    for part in range(max(buf.nsubimages, 1)):
+        sub = oiio.ImageBuf(str(path), part, 0)
+        pixels = sub.get_pixels(oiio.FLOAT)
+        if sub.has_error or pixels is None:
+            raise InputError(f"cannot read EXR {path} part {part}: the file is truncated or corrupt")
+        pixels = pixels.reshape(sub.spec().height, sub.spec().width, -1)
+        for k, name in enumerate(sub.spec().channelnames):
+            channels[name] = pixels[..., k].astype(np.float32)
+    return channels
+
+
+def exr_name(name: str) -> str:
+    """The depth file beside an image: 0001.png -> 0001.exr."""
+    return str(Path(name).with_suffix(".exr"))
+
+
+def read_depth(path: Path) -> np.ndarray:
+    """Read a one-channel depth EXR as (H, W) float32."""
+    channels = read_exr_channels(path)
+    if len(channels) != 1:
+        raise InputError(f"depth EXR {path} has channels {sorted(channels)}; expected one (Y or Z)")
+    return next(iter(channels.values()))
+
+
+def write_depth(path: Path, depth: np.ndarray) -> None:
+    """Write (H, W) float32 depth as a one-channel EXR (channel 'Y').
+
+    OpenImageIO scrambles a 2-D array silently, so it is given (H, W, 1). The folder is created.
+    """
+    import OpenImageIO as oiio
+
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    depth = np.ascontiguousarray(depth, dtype=np.float32)[..., None]
+    spec = oiio.ImageSpec(depth.shape[1], depth.shape[0], 1, oiio.FLOAT)
+    spec.channelnames = ("Y",)
+    spec.attribute("compression", "zip")
+    out = oiio.ImageOutput.create(str(path))
+    if out is None or not out.open(str(path), spec):
+        raise InputError(f"cannot write {path}: check that the folder exists and is writable")
+    ok = out.write_image(depth)
+    out.close()
+    if not ok:
+        raise InputError(f"writing {path} failed: {out.geterror()}")
+
+
+def linear_to_srgb8(rgb: np.ndarray) -> np.ndarray:
+    """Scene-linear RGB (float) to 8-bit sRGB: Blender's 'Standard' view transform, no dither."""
+    rgb = np.clip(rgb, 0.0, 1.0)
+    srgb = np.where(rgb <= 0.0031308, 12.92 * rgb, 1.055 * np.power(rgb, 1 / 2.4) - 0.055)
+    return np.round(srgb * 255.0).astype(np.uint8)

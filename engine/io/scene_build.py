@@ -1,0 +1,135 @@
+"""Turn the Blender generator's raw renders into a scene folder with exact ground truth.
+
+scripts/make_scene.py (Blender's Python) renders multi-part EXRs (linear colour, z-depth, object index)
+and writes cameras.json; this module (the engine's Python, which has OpenImageIO and pycolmap) writes
+images/, gt/, masks/, depth/, gt_depth/, holes/, sparse/0/ and split.json. See engine.io.scene for the layout.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from engine.base.errors import InputError
+from engine.base.output_dir import atomic_output_dir
+from engine.base.progress import Progress, emit
+from engine.formats.camera_json import read_cameras_json
+from engine.formats.cameras import Camera, backproject, pixel_grid, project
+from engine.io.colmap_model import ColmapModel, write_model
+from engine.io.image_io import linear_to_srgb8, read_exr_channels, write_depth, write_png
+from engine.io.visibility import DEFAULT_REL_TOL, seen_by_any, unseen_mask
+
+BACKGROUND_DEPTH = 1e9  # Cycles writes 1e10 where a ray hits nothing; stored as inf
+
+
+@dataclass(frozen=True)
+class BuildConfig:
+    """Settings for turning renders into a scene folder."""
+
+    max_points: int = 30_000  # sparse points written to the COLMAP model
+    max_track: int = 4  # observations kept per point
+    rel_tol: float = DEFAULT_REL_TOL  # depth tolerance of the ground-truth hole test
+    seed: int = 0
+
+
+@dataclass
+class RenderPass:
+    """The three passes of one render."""
+
+    rgb: np.ndarray  # (H, W, 3) uint8 sRGB
+    depth: np.ndarray  # (H, W) float32, inf where nothing was hit
+    ids: np.ndarray  # (H, W) uint8 object index
+
+
+def read_render(path: Path) -> RenderPass:
+    """Read one of Blender's multi-part EXRs (channel names differ between Blender 4.x and 5.x)."""
+    channels = read_exr_channels(path)
+
+    def find(*suffixes: str) -> np.ndarray:
+        for name, data in channels.items():
+            if any(name.endswith(s) for s in suffixes):
+                return data
+        raise InputError(f"render {path} lacks a {suffixes[0]} channel; enable that pass and re-render")
+
+    rgb = np.stack([find("Combined.R"), find("Combined.G"), find("Combined.B")], axis=-1)
+    depth = find("Depth.Z", ".Z")
+    depth = np.where(depth >= BACKGROUND_DEPTH, np.inf, depth).astype(np.float32)
+    ids = np.rint(find("Object Index.X", "IndexOB.X")).clip(0, 255).astype(np.uint8)
+    return RenderPass(linear_to_srgb8(rgb), depth, ids)
+
+
+def build_scene(renders: Path, out: Path, config: BuildConfig = BuildConfig()) -> Path:
+    """Write a complete scene folder at `out` from the renders in `renders`; returns `out`."""
+    cameras = read_cameras_json(renders / "cameras.json")
+    split = json.loads((renders / "split.json").read_text())
+    objects = json.loads((renders / "objects.json").read_text())
+    target_id = next(o["id"] for o in objects if o["target"])
+    train = [i for i, c in enumerate(cameras) if c.name in set(split["train"])]
+    with atomic_output_dir(out) as tmp:
+        for sub in ("images", "masks", "depth", "gt", "gt_depth", "holes"):
+            (tmp / sub).mkdir()
+        views = _write_views(renders / "with", cameras, tmp, "images", "depth", keep_masks=True)
+        gt_names = sorted(p.stem for p in (renders / "without").glob("*.exr"))
+        gt_index = [i for i, c in enumerate(cameras) if Path(c.name).stem in gt_names]
+        gt_views = _write_views(renders / "without", [cameras[i] for i in gt_index], tmp, "gt", "gt_depth")
+        progress = Progress("holes", len(gt_index))
+        for k, (i, gt) in enumerate(zip(gt_index, gt_views, strict=True)):
+            hole = unseen_mask(cameras[i], views[i].ids == target_id, gt.depth,
+                               [cameras[j] for j in train], [views[j].depth for j in train], config.rel_tol)
+            write_png(tmp / "holes" / cameras[i].name, (hole * 255).astype(np.uint8))
+            progress.update(k + 1)
+        progress.close()
+        model = sample_points(cameras, views, train, config)
+        write_model(tmp / "sparse" / "0", model)
+        (tmp / "masks" / "objects.json").write_text(json.dumps(objects, indent=1))
+        (tmp / "split.json").write_text(json.dumps(split, indent=1))
+        shutil.copy(renders / "meta.json", tmp / "scene.json")
+    emit("done", out=str(out))
+    return out
+
+
+def _write_views(folder: Path, cameras: list[Camera], out: Path, image_dir: str, depth_dir: str,
+                 keep_masks: bool = False) -> list[RenderPass]:
+    """Convert each camera's render; returns the passes (colour dropped) for later steps."""
+    progress = Progress(image_dir, len(cameras))
+    passes = []
+    for k, camera in enumerate(cameras):
+        render = read_render(folder / f"{Path(camera.name).stem}.exr")
+        if render.depth.shape != (camera.height, camera.width):
+            raise InputError(f"render {folder / camera.name} does not match its camera size; re-render")
+        write_png(out / image_dir / camera.name, render.rgb)
+        write_depth(out / depth_dir / f"{Path(camera.name).stem}.exr", render.depth)
+        if keep_masks:
+            write_png(out / "masks" / camera.name, render.ids)
+        passes.append(render)
+        progress.update(k + 1)
+    progress.close()
+    return passes
+
+
+def sample_points(cameras: list[Camera], views: list[RenderPass], train: list[int],
+                  config: BuildConfig) -> ColmapModel:
+    """Sparse points on surfaces the training views see, coloured from the images, with short tracks."""
+    rng = np.random.default_rng(config.seed)
+    per_view = max(1, config.max_points // len(train))
+    points, colors, sources = [], [], []
+    for i in train:
+        u, v = pixel_grid(cameras[i])
+        valid = np.flatnonzero(np.isfinite(views[i].depth).ravel())
+        pick = rng.choice(valid, size=min(per_view, valid.size), replace=False)
+        points.append(backproject(cameras[i], u.ravel()[pick], v.ravel()[pick], views[i].depth.ravel()[pick]))
+        colors.append(views[i].rgb.reshape(-1, 3)[pick])
+        sources.append(np.full(pick.size, i))
+    xyz, rgb, source = np.concatenate(points), np.concatenate(colors), np.concatenate(sources)
+    observations: list[list[tuple[int, float, float]]] = [[] for _ in range(len(xyz))]
+    for i in train:
+        u, v, z = project(cameras[i], xyz)
+        seen = seen_by_any(xyz, [cameras[i]], [views[i].depth], config.rel_tol)
+        for p in np.flatnonzero(seen | (source == i)):
+            if len(observations[p]) < config.max_track or source[p] == i:
+                observations[p].append((i, float(u[p]), float(v[p])))
+    return ColmapModel(cameras=cameras, points=xyz, colors=rgb, observations=observations)

@@ -1,0 +1,51 @@
+"""Which 3D points some view sees: the test behind ground-truth holes and (later) 3DGIC hole masks.
+
+A view sees a world point when the point projects inside its frame with z > 0 and is not behind the
+surface that view's depth map records there (within a relative tolerance).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from engine.formats.cameras import Camera, backproject, pixel_grid, project, sample_nearest
+
+DEFAULT_REL_TOL = 0.01  # 1% of depth: above Cycles' one-sample depth jitter, below object thickness
+
+
+def seen_by_any(points: np.ndarray, cameras: list[Camera], depths: list[np.ndarray],
+                rel_tol: float = DEFAULT_REL_TOL, occluders: list[np.ndarray] | None = None) -> np.ndarray:
+    """(N,) bool: whether any of `cameras` (with z-depth maps `depths`) sees each of `points` (N, 3).
+
+    `occluders` (one bool mask per camera, optional): pixels showing an occluding object, which see
+    nothing behind it whatever the depths say. Rendered depth is blurred at silhouettes, and where an
+    object touches its support the two depths differ by less than any tolerance; the masks decide there.
+    """
+    seen = np.zeros(len(points), dtype=bool)
+    for k, (camera, depth) in enumerate(zip(cameras, depths, strict=True)):
+        todo = ~seen
+        if not todo.any():
+            break
+        u, v, z = project(camera, points[todo])
+        surface, inside = sample_nearest(depth, u, v)
+        visible = inside & (z > 0) & (z <= surface * (1 + rel_tol))
+        if occluders is not None:
+            visible &= ~sample_nearest(occluders[k], u, v)[0]
+        seen[np.flatnonzero(todo)[visible]] = True
+    return seen
+
+
+def unseen_mask(camera: Camera, region: np.ndarray, background_depth: np.ndarray, cameras: list[Camera],
+                depths: list[np.ndarray], rel_tol: float = DEFAULT_REL_TOL,
+                occluders: list[np.ndarray] | None = None) -> np.ndarray:
+    """(H, W) bool: pixels of `region` whose background surface no view in `cameras` sees.
+
+    The background surface of pixel p is the point at `background_depth[p]` along p's ray. Pixels
+    with no finite background (open sky) count as seen: nothing is missing there.
+    """
+    u, v = pixel_grid(camera)
+    candidates = region & np.isfinite(background_depth) & (background_depth > 0)
+    points = backproject(camera, u[candidates], v[candidates], background_depth[candidates])
+    hole = np.zeros_like(region, dtype=bool)
+    hole[candidates] = ~seen_by_any(points, cameras, depths, rel_tol, occluders)
+    return hole

@@ -1,0 +1,30 @@
+"""Evaluate a trained scene on the test views: PSNR, SSIM against images/, identity mIoU against masks/."""
+
+from __future__ import annotations
+
+import torch
+
+from engine.io.gaussians import Gaussians
+from engine.io.scene import Scene
+from engine.metrics.image_metrics import IoUCounter, psnr, ssim
+from engine.render.rasterize import CameraTensors, render
+
+
+@torch.no_grad()
+def evaluate_views(scene: Scene, views: list[int], gaussians: Gaussians, classifier: torch.nn.Module,
+                   sh_degree: int, device: torch.device) -> dict[str, float]:
+    psnrs, ssims = [], []
+    num_classes = classifier.out_features
+    iou = IoUCounter(num_classes)
+    for i in views:
+        out = render(gaussians, CameraTensors.from_camera(scene.cameras[i], device), sh_degree,
+                     classifier=classifier, depth=False)
+        target = torch.as_tensor(scene.images[i], device=device).float() / 255.0
+        image = out.rgb.clamp(0, 1)
+        psnrs.append(psnr(image, target))
+        ssims.append(float(ssim(image, target)))
+        if scene.masks is not None:
+            labels = out.logits.argmax(-1)
+            iou.add(labels, torch.as_tensor(scene.masks[i]).clamp(max=num_classes - 1))
+    return {"psnr": sum(psnrs) / max(len(psnrs), 1), "ssim": sum(ssims) / max(len(ssims), 1),
+            "identity_miou": iou.miou() if scene.masks is not None else float("nan"), "views": len(views)}

@@ -1,0 +1,95 @@
+"""Render Gaussians for one camera: RGB, expected depth, alpha and identity (or class logits), in one pass.
+
+gsplat 1.5.3 on CUDA; on the CPU the pure-torch reference (engine.render.rasterize_reference) with the same math.
+RGB (from spherical harmonics, evaluated here for both back ends) and the identity channels are blended
+together, with expected depth appended ("RGB+ED") when asked for, so one rasterization gives everything.
+
+Given the classifier, the Gaussians' identities are projected through its weights *before* blending:
+blending is linear, so W (sum_i w_i e_i) + b = sum_i w_i (W e_i) + b, the same logits and gradients
+as classifying the blended 16-d map, but with C channels instead of 16. gsplat's kernels exist for
+1-5, 8, 9, 16, 17, 32... channels and pad the rest, so RGB + 16 identity + depth costs a 32-channel
+pass while RGB + 6 classes costs 9 channels: on the H200 the rasterizer's share of a training step at
+290k Gaussians fell from 6.4 ms to 3.3 ms (docs/BENCHMARKS.md). With more classes than identity dimensions the map is
+blended first and classified per pixel.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import torch
+
+from engine.formats.cameras import Camera
+from engine.io.gaussians import Gaussians
+from engine.render.rasterize_reference import rasterize_reference
+from engine.render.sh import eval_sh
+
+NEAR_PLANE, FAR_PLANE, EPS2D = 0.01, 1e10, 0.3
+
+
+@dataclass
+class RenderOutput:
+    rgb: torch.Tensor  # (H, W, 3) linear in [0, 1] as trained (the images' sRGB values)
+    depth: torch.Tensor | None  # (H, W) expected z-depth, sum(w z) / sum(w); None unless asked for
+    alpha: torch.Tensor  # (H, W) accumulated opacity
+    identity: torch.Tensor | None  # (H, W, 16) blended identity; None when the logits were blended directly
+    logits: torch.Tensor | None  # (H, W, C) classifier logits; None without a classifier
+    info: dict  # projection data for densification strategies (means2d, radii, width, height, ...)
+
+
+@dataclass(frozen=True)
+class CameraTensors:
+    """A camera on a device: world-to-camera (4, 4), intrinsics (3, 3), centre (3,), size."""
+
+    viewmat: torch.Tensor
+    K: torch.Tensor
+    center: torch.Tensor
+    width: int
+    height: int
+
+    @classmethod
+    def from_camera(cls, camera: Camera, device: torch.device | str) -> CameraTensors:
+        def tensor(a):
+            return torch.as_tensor(a, dtype=torch.float32, device=device)
+
+        return cls(tensor(camera.world_to_camera), tensor(camera.K), tensor(camera.center), camera.width,
+                   camera.height)
+
+
+def default_backend(device: torch.device | str) -> str:
+    return "gsplat" if torch.device(device).type == "cuda" else "reference"
+
+
+def render(gaussians: Gaussians, camera: CameraTensors, sh_degree: int, backend: str | None = None,
+           classifier: torch.nn.Linear | None = None, depth: bool = True) -> RenderOutput:
+    """Render `gaussians` (see engine.io.gaussians) seen by `camera`, using SH bands up to `sh_degree`;
+    with `classifier`, also the per-pixel class logits; `depth=False` skips the depth channel."""
+    means = gaussians["means"]
+    backend = backend or default_backend(means.device)
+    dirs = torch.nn.functional.normalize(means.detach() - camera.center, dim=-1)
+    rgb = torch.clamp_min(eval_sh(sh_degree, gaussians["sh0"], gaussians["shN"], dirs) + 0.5, 0.0)
+    identity = gaussians["identity"]
+    project_first = classifier is not None and classifier.out_features <= identity.shape[-1]
+    features = torch.cat([rgb, identity @ classifier.weight.T if project_first else identity], dim=-1)
+    args = (means, gaussians["quats"], torch.exp(gaussians["scales"]), torch.sigmoid(gaussians["opacities"]),
+            features)
+    if backend == "gsplat":
+        from gsplat import rasterization
+
+        colors, alphas, info = rasterization(*args, camera.viewmat[None], camera.K[None], camera.width,
+                                             camera.height, near_plane=NEAR_PLANE, far_plane=FAR_PLANE,
+                                             eps2d=EPS2D, sh_degree=None, packed=False,
+                                             render_mode="RGB+ED" if depth else "RGB")
+        colors, alphas = colors[0], alphas[0]
+    else:
+        colors, alphas, info = rasterize_reference(*args, camera.viewmat, camera.K, camera.width, camera.height,
+                                                   NEAR_PLANE, FAR_PLANE, EPS2D)
+        colors = colors if depth else colors[..., :-1]
+    channels = colors[..., 3:-1] if depth else colors[..., 3:]
+    if project_first:
+        blended_identity, logits = None, channels + classifier.bias
+    else:
+        blended_identity = channels
+        logits = classifier(channels) if classifier is not None else None
+    return RenderOutput(rgb=colors[..., :3], depth=colors[..., -1] if depth else None, alpha=alphas[..., 0],
+                        identity=blended_identity, logits=logits, info=info)

@@ -1,0 +1,59 @@
+"""Render a set of Gaussians into numpy pictures for the stages that write files (removal, holes, sheets),
+and into a folder of PNGs from a cameras.json (turntable frames)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from engine.base.device import pick_device
+from engine.base.output_dir import atomic_output_dir
+from engine.base.progress import Progress, emit
+from engine.formats.camera_json import read_cameras_json
+from engine.formats.cameras import Camera
+from engine.io.gaussians import Gaussians
+from engine.io.image_io import write_png
+from engine.io.ply_io import SH_REST_COUNTS, load_ply
+from engine.render.rasterize import CameraTensors, render
+
+MIN_ALPHA = 0.5  # below this the expected depth is mostly background-free guesswork: stored as inf
+
+
+@dataclass
+class ViewPicture:
+    rgb: np.ndarray  # (H, W, 3) uint8
+    depth: np.ndarray  # (H, W) float32 z-depth, inf where alpha < MIN_ALPHA
+    labels: np.ndarray | None  # (H, W) uint8 argmax class, with a classifier
+
+
+@torch.no_grad()
+def render_pictures(gaussians: Gaussians, cameras: list[Camera], sh_degree: int, device: torch.device,
+                    classifier: torch.nn.Linear | None = None) -> Iterator[ViewPicture]:
+    """One ViewPicture per camera, in order; the Gaussians are moved to `device` once."""
+    on_device = {k: v.to(device) for k, v in gaussians.items()}
+    classifier = classifier.to(device) if classifier is not None else None
+    for camera in cameras:
+        out = render(on_device, CameraTensors.from_camera(camera, device), sh_degree, classifier=classifier)
+        depth = torch.where(out.alpha >= MIN_ALPHA, out.depth, torch.full_like(out.depth, float("inf")))
+        rgb = (out.rgb.clamp(0, 1) * 255 + 0.5).to(torch.uint8)
+        labels = out.logits.argmax(-1).to(torch.uint8).cpu().numpy() if out.logits is not None else None
+        yield ViewPicture(rgb=rgb.cpu().numpy(), depth=depth.float().cpu().numpy(), labels=labels)
+
+
+def render_to_folder(ply: Path, cameras_json: Path, out: Path, device: str = "auto") -> Path:
+    """Render a .ply from every camera of a cameras.json into out/<camera name> (PNG), written atomically:
+    the turntable's frames and any other camera path a user brings."""
+    gaussians, cameras = load_ply(ply), read_cameras_json(cameras_json)
+    sh_degree = SH_REST_COUNTS[3 * gaussians["shN"].shape[1]]  # load_ply checked the count
+    with atomic_output_dir(out) as tmp:
+        progress = Progress("render", len(cameras))
+        for k, picture in enumerate(render_pictures(gaussians, cameras, sh_degree, pick_device(device))):
+            write_png(tmp / cameras[k].name, picture.rgb)
+            progress.update(k + 1)
+        progress.close()
+    emit("done", stage="render", out=str(out), views=len(cameras))
+    return Path(out)

@@ -1,0 +1,139 @@
+"""`python -m engine train`: a training run in its own folder, resumable and cancellable.
+
+Run folder:
+  config.json           the resolved TrainConfig
+  checkpoints/          step_XXXXXXX.pt, the last `keep_checkpoints` of them
+  point_cloud.ply       final Gaussians, standard 3DGS layout + obj_dc_*     (written at the end)
+  classifier.npz        the identity classifier (weight (C, 16), bias (C,))
+  objects.json          the scene's objects, so ids have names
+  metrics.json          test PSNR/SSIM, identity mIoU, Gaussians, wall time
+The scene folder is only read. SIGINT/SIGTERM write a checkpoint and end the run with status 130;
+`--resume` continues from the newest checkpoint with the saved config.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import signal
+import time
+from pathlib import Path
+
+import torch
+
+from engine.base.device import pick_device
+from engine.base.errors import Cancelled, InputError
+from engine.base.progress import Progress, emit
+from engine.io.ply_io import save_classifier, save_ply
+from engine.io.scene import load_scene
+from engine.metrics.evaluate import evaluate_views
+from engine.train.config import TrainConfig
+from engine.train.trainer import Trainer
+
+
+def _write_json(path: Path, data: dict) -> None:
+    tmp = path.with_suffix(".json.tmp")
+    tmp.write_text(json.dumps(data, indent=1))
+    tmp.replace(path)
+
+
+def save_checkpoint(run: Path, trainer: Trainer, keep: int) -> Path:
+    folder = run / "checkpoints"
+    folder.mkdir(exist_ok=True)
+    path = folder / f"step_{trainer.step_index:07d}.pt"
+    tmp = path.with_suffix(".pt.tmp")
+    torch.save(trainer.state_dict(), tmp)
+    tmp.replace(path)
+    for old in sorted(folder.glob("step_*.pt"))[:-keep]:
+        old.unlink()
+    return path
+
+
+def latest_checkpoint(run: Path) -> Path | None:
+    found = sorted((run / "checkpoints").glob("step_*.pt"))
+    return found[-1] if found else None
+
+
+def prepare_run(config: TrainConfig, resume: bool) -> TrainConfig:
+    """Create the run folder (or check the one being resumed) and return the config to use."""
+    run = Path(config.out)
+    if resume:
+        if not (run / "config.json").is_file():
+            raise InputError(f"cannot resume {run}: it has no config.json; start a new run without --resume")
+        return TrainConfig(**json.loads((run / "config.json").read_text()))
+    if run.exists() and any(run.iterdir()):
+        raise InputError(f"run folder {run} already exists: pass --resume to continue it, or choose a new --out")
+    config = config.resolved()
+    run.mkdir(parents=True, exist_ok=True)
+    _write_json(run / "config.json", dataclasses.asdict(config))
+    return config
+
+
+def train(config: TrainConfig, resume: bool = False, plugins: dict | None = None) -> dict:
+    """Train a new run, or continue one from its newest checkpoint; returns its metrics. `plugins` are the
+    Trainer's completion plug-ins (start, frozen, objective, views, classifier); a resumed run needs the same ones."""
+    config = prepare_run(config, resume)
+    run = Path(config.out)
+    scene = load_scene(config.scene)
+    if not scene.train:
+        raise InputError(f"{config.scene} has no training views: check split.json")
+    device = pick_device(config.device)
+    trainer = Trainer(config, scene, device, **(plugins or {}))
+    source = latest_checkpoint(run) if resume else None
+    if source is not None:
+        trainer.load_state_dict(torch.load(source, map_location="cpu", weights_only=False))
+        emit("resumed", step=trainer.step_index, checkpoint=str(source))
+    stop = {"signal": None}
+    handlers = {s: signal.signal(s, lambda n, _f: stop.update(signal=n)) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        _loop(trainer, run, stop)
+    finally:
+        for s, h in handlers.items():
+            signal.signal(s, h)
+    return _finish(trainer, scene, run)
+
+
+def _loop(trainer: Trainer, run: Path, stop: dict) -> None:
+    config = trainer.config
+    progress = Progress("train", config.steps)
+    start = time.perf_counter() - trainer.seconds
+    while trainer.step_index < config.steps:
+        result = trainer.step()
+        step = trainer.step_index
+        trainer.seconds = time.perf_counter() - start  # wall clock of the loop, checkpoints included
+        if step % config.log_every == 0 or step == config.steps:
+            progress.update(step, loss=round(float(result.loss), 5), psnr=round(result.psnr, 2),
+                            gaussians=len(trainer.params["means"]))
+        if step % config.checkpoint_every == 0 and step < config.steps:
+            save_checkpoint(run, trainer, config.keep_checkpoints)
+        if stop["signal"] is not None:
+            path = save_checkpoint(run, trainer, config.keep_checkpoints)
+            progress.close()
+            emit("cancelled", step=step, checkpoint=str(path))
+            raise Cancelled(f"stopped at step {step}; checkpoint {path}; continue with --resume")
+    _synchronize(trainer.device)
+    trainer.seconds = time.perf_counter() - start
+    progress.close()
+
+
+def _synchronize(device: torch.device) -> None:
+    if device.type == "cuda":
+        torch.cuda.synchronize(device)
+
+
+def _finish(trainer: Trainer, scene, run: Path) -> dict:
+    save_checkpoint(run, trainer, trainer.config.keep_checkpoints)
+    save_ply(run / "point_cloud.ply", trainer.gaussians)
+    save_classifier(run / "classifier.npz", trainer.classifier)
+    _write_json(run / "objects.json", {"objects": [dataclasses.asdict(o) for o in scene.objects]})
+    start = time.perf_counter()
+    metrics = evaluate_views(scene, scene.test, trainer.gaussians, trainer.classifier, trainer.sh_degree,
+                             trainer.device)
+    metrics.update(gaussians=len(trainer.params["means"]), steps=trainer.step_index,
+                   train_seconds=round(trainer.seconds, 2), eval_seconds=round(time.perf_counter() - start, 2),
+                   device=str(trainer.device),
+                   peak_gpu_mb=(round(torch.cuda.max_memory_allocated() / 2**20, 1)
+                                if trainer.device.type == "cuda" else None))
+    _write_json(run / "metrics.json", metrics)
+    emit("done", run=str(run), **{k: v for k, v in metrics.items() if isinstance(v, (int, float, str))})
+    return metrics

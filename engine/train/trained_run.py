@@ -1,0 +1,60 @@
+"""A finished training run read back from its folder: the stages after training all start here.
+
+A run folder (engine.train.run) holds config.json, metrics.json, point_cloud.ply (standard 3DGS PLY with
+obj_dc_* identities) and classifier.npz; the scene it was trained on is named in config.json.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import torch
+
+from engine.base.errors import InputError
+from engine.io.gaussians import Gaussians
+from engine.io.ply_io import load_classifier, load_ply
+from engine.io.scene import Scene, load_scene
+from engine.train.config import TrainConfig
+
+
+@dataclass
+class TrainedRun:
+    root: Path
+    config: TrainConfig
+    scene: Scene
+    gaussians: Gaussians
+    classifier: torch.nn.Linear
+    sh_degree: int
+
+
+def _read_run(root: Path, scene: Path | str | None) -> tuple[TrainConfig, int, Path]:
+    """The run's config, its step count and its scene folder, checked, each problem a one-line error."""
+    for name in ("config.json", "metrics.json", "point_cloud.ply", "classifier.npz"):
+        if not (root / name).is_file():
+            raise InputError(f"{root / name} missing: {root} is not a finished training run "
+                             f"(train with `python -m engine train --scene DIR --out {root}`, or --resume it)")
+    try:
+        config = TrainConfig(**json.loads((root / "config.json").read_text()))
+        steps = int(json.loads((root / "metrics.json").read_text())["steps"])
+    except (ValueError, TypeError, KeyError) as exc:
+        raise InputError(f"cannot read {root}/config.json or metrics.json ({exc}); re-run training") from exc
+    scene_dir = Path(scene) if scene is not None else Path(config.scene)
+    if not scene_dir.is_dir():
+        raise InputError(f"scene folder {scene_dir} named in {root / 'config.json'} is gone: pass --scene DIR")
+    return config, steps, scene_dir
+
+
+def load_run_scene(root: Path | str) -> Scene:
+    """Only the scene of run folder `root`, for stages that read its files but not its Gaussians."""
+    return load_scene(_read_run(Path(root), None)[2])
+
+
+def load_run(root: Path | str, scene: Path | str | None = None) -> TrainedRun:
+    """Load run folder `root`; `scene` overrides the scene folder recorded in its config.json."""
+    root = Path(root)
+    config, steps, scene_dir = _read_run(root, scene)
+    return TrainedRun(root=root, config=config, scene=load_scene(scene_dir),
+                      gaussians=load_ply(root / "point_cloud.ply"), classifier=load_classifier(root / "classifier.npz"),
+                      sh_degree=config.sh_degree_at(steps))
