@@ -114,3 +114,17 @@ def run_engine(args: list[str], on_progress: Callable[[dict], None] | None = Non
             if on_progress is not None:
                 on_progress(record)
     return job.result()
+
+
+_PLUGINS: dict = {}
+
+
+def engine_plugins() -> dict:
+    """The engine's inpainters and completion methods (`python -m engine plugins`): what the add-on's menus
+    offer. Asked once per session; the engine's registries are the only list."""
+    if not _PLUGINS:
+        record = next((r for r in run_engine(["plugins"]) if r.get("event") == "plugins"), None)
+        if record is None:
+            raise EngineError("the engine did not list its plug-ins: update the engine (make setup)")
+        _PLUGINS.update(record)
+    return _PLUGINS

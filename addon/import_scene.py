@@ -17,7 +17,7 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from .cameras import blender_settings, camera_to_world
+from .formats import cameras as camera_formats
 from .splat_ply import Splats, read_splats
 
 NODE_GROUP = "splatfill proxy"
@@ -25,19 +25,19 @@ MATERIAL = "splatfill splat"
 PROXY_SIGMAS = 2.0  # instance radius in standard deviations: a 2-sigma ellipsoid holds most of a Gaussian
 
 
-def import_cameras(records: list[dict], collection: bpy.types.Collection) -> list[bpy.types.Object]:
-    """One Blender camera per cameras.json record (see addon.cameras); the scene takes the first one's
+def import_cameras(cameras_json: Path, collection: bpy.types.Collection) -> list[bpy.types.Object]:
+    """One Blender camera per camera of a cameras.json (engine.formats.cameras); the scene takes the first one's
     resolution and pixel aspect (they are per scene in Blender), each camera keeps its own as properties."""
     objects = []
     scene = bpy.context.scene
-    for k, r in enumerate(records):
-        settings = blender_settings(r["fx"], r["fy"], r["cx"], r["cy"], r["width"], r["height"])
-        data = bpy.data.cameras.new(Path(r["name"]).stem)
+    for k, c in enumerate(camera_formats.read_cameras_json(cameras_json)):
+        settings = camera_formats.blender_settings(c.fx, c.fy, c.cx, c.cy, c.width, c.height)
+        data = bpy.data.cameras.new(Path(c.name).stem)
         for key in ("sensor_fit", "sensor_width", "sensor_height", "lens", "shift_x", "shift_y"):
             setattr(data, key, settings[key])
-        obj = bpy.data.objects.new(Path(r["name"]).stem, data)
-        obj.matrix_world = Matrix(camera_to_world(np.array(r["R"]), np.array(r["t"])).tolist())
-        obj["splatfill_image"] = r["name"]
+        obj = bpy.data.objects.new(Path(c.name).stem, data)
+        obj.matrix_world = Matrix(camera_formats.camera_to_world(c.R, c.t).tolist())
+        obj["splatfill_image"] = c.name
         obj["splatfill_resolution"] = list(settings["resolution"])
         obj["splatfill_pixel_aspect"] = list(settings["pixel_aspect"])
         collection.objects.link(obj)

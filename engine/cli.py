@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 from pathlib import Path
 
@@ -71,10 +72,9 @@ def _inpaint(args: argparse.Namespace) -> None:
 
 
 def _complete(args: argparse.Namespace) -> None:
-    from engine.complete.run import CompleteConfig, run_complete
-    from engine.train.config import config_from_args
+    from engine.complete.run import config_from_args, run_complete
 
-    report = run_complete(config_from_args(args, CompleteConfig))
+    report = run_complete(config_from_args(args))
     print(f"{report['method']}: m-PSNR {report['scores']['m_psnr']} (removed, unfilled: "
           f"{report['removed_scores']['m_psnr']}), PSNR {report['scores']['psnr']}, {report['seconds']} s",
           file=sys.stderr)
@@ -106,7 +106,7 @@ def _chart(args: argparse.Namespace) -> None:
 
 def _cameras(args: argparse.Namespace) -> None:
     from engine.base.progress import emit
-    from engine.formats.camera_json import write_cameras_json
+    from engine.formats.cameras import write_cameras_json
     from engine.io.colmap_model import find_model_dir, read_model
 
     scene = Path(args.scene)
@@ -115,17 +115,16 @@ def _cameras(args: argparse.Namespace) -> None:
 
 
 def _evaluate(args: argparse.Namespace) -> None:
-    import json
-
     from engine.base.device import pick_device
     from engine.base.progress import emit
-    from engine.complete.run import score_removed, score_run
+    from engine.complete.scoring import score_removed, score_run
+    from engine.formats.layout import RemovedLayout
     from engine.metrics.scores import ScoreConfig, Scorer
     from engine.train.trained_run import load_run_scene
 
     scorer = Scorer(ScoreConfig(device=str(pick_device(args.device))))
     if args.removed:
-        scores = score_removed(load_run_scene(args.run), Path(args.removed), scorer)
+        scores = score_removed(load_run_scene(args.run), RemovedLayout(args.removed), scorer)
     else:
         scores = score_run(Path(args.run), scorer)
     report = {"scores": scores.values, "unavailable": scores.unavailable}
@@ -139,6 +138,12 @@ def _render(args: argparse.Namespace) -> None:
     from engine.render.render_views import render_to_folder
 
     print(f"wrote {render_to_folder(Path(args.ply), Path(args.cameras), Path(args.out), args.device)}", file=sys.stderr)
+
+
+def _plugins(args: argparse.Namespace) -> None:
+    from engine.complete.catalog import describe, markdown_table
+
+    print(markdown_table() if args.markdown else json.dumps({"event": "plugins", **describe()}))
 
 
 def _version(args: argparse.Namespace) -> None:
@@ -175,7 +180,6 @@ def build_parser() -> argparse.ArgumentParser:
     add_config_arguments(p)
     p.add_argument("--resume", action="store_true", help="continue the run in --out from its newest checkpoint")
     p.set_defaults(handler=_train)
-    from engine.complete.run import CompleteConfig
     from engine.edit.holes import HoleConfig
     from engine.edit.removal import RemovalConfig
     from engine.inpaint.run import InpaintConfig
@@ -184,11 +188,18 @@ def build_parser() -> argparse.ArgumentParser:
         ("remove", RemovalConfig, _remove, "delete an object's Gaussians (by id/name or a 3D box) and render the rest"),
         ("holes", HoleConfig, _holes, "depth-guided hole masks: object pixels whose background no view saw"),
         ("inpaint", InpaintConfig, _inpaint, "fill the hole masks of the removed renders (RGB and depth) in 2D"),
-        ("complete", CompleteConfig, _complete, "complete the scene from the inpainted views and score it"),
     ):
         p = sub.add_parser(name, help=text)
         add_config_arguments(p, cls, required=("run",))
         p.set_defaults(handler=handler)
+    from engine.complete.run import add_arguments
+
+    p = sub.add_parser("complete", help="complete the scene from the inpainted views and score it")
+    add_arguments(p)
+    p.set_defaults(handler=_complete)
+    p = sub.add_parser("plugins", help="the completion methods and inpainters, with options and needs, as JSON")
+    p.add_argument("--markdown", action="store_true", help="the README's table instead of JSON")
+    p.set_defaults(handler=_plugins)
     p = sub.add_parser("compare", help="side-by-side picture: a row per view, a column per folder of renders")
     p.add_argument("--columns", nargs="+", required=True, help="LABEL=DIR, in order")
     p.add_argument("--views", nargs="+", required=True, help="file names present in the folders")

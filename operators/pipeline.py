@@ -10,18 +10,43 @@ splatfill_inpainted.
 
 from __future__ import annotations
 
-import json
 import tempfile
 import time
 from pathlib import Path
 
 import bpy
 
+from ..addon.engine_call import EngineError, engine_plugins
+from ..addon.formats import layout
 from ..addon.import_scene import import_cameras, import_splats
 from .engine_operator import EngineOperator, UserError, done_record
 
-INPAINTERS = [(n, n, f"the {n} inpainter") for n in
-              ("telea", "navier-stokes", "fsr", "shiftmap", "exemplar", "lama", "diffusion", "nanobanana")]
+_ITEMS: dict[str, list[tuple[str, str, str]]] = {}  # Blender needs the enum strings kept alive
+
+
+def _plugin_items(kind: str) -> list[tuple[str, str, str]]:
+    """Menu items from the engine's registry: inpainters, or the completion methods that start from the
+    Inpaint operator's output (the removed renders' holes)."""
+    if kind not in _ITEMS:
+        try:
+            plugins = engine_plugins()
+        except EngineError as exc:
+            return [("", "engine unavailable", str(exc))]
+        if kind == "inpainters":
+            _ITEMS[kind] = [(i["name"], i["name"], f"{i['summary']} (needs: {i['needs']})")
+                            for i in plugins["inpainters"] if i["uses_mask"]]
+        else:
+            _ITEMS[kind] = [(m["name"], m["label"], f"{m['summary']} (needs: {m['needs']})")
+                            for m in plugins["methods"] if m["source"] == "removed"]
+    return _ITEMS[kind]
+
+
+def _inpainter_items(self, context):
+    return _plugin_items("inpainters")
+
+
+def _method_items(self, context):
+    return _plugin_items("methods")
 
 
 def _stamp() -> str:
@@ -71,8 +96,7 @@ class SPLATFILL_OT_import_colmap(EngineOperator, bpy.types.Operator):
 
     def finish(self, context, records):
         scene = Path(bpy.path.abspath(self.directory))
-        records = json.loads(self._json.read_text())
-        cameras = import_cameras(records, _new_collection(f"{scene.name} cameras", splatfill_scene=str(scene)))
+        cameras = import_cameras(self._json, _new_collection(f"{scene.name} cameras", splatfill_scene=str(scene)))
         return f"imported {len(cameras)} cameras from {scene}"
 
 
@@ -89,14 +113,14 @@ class SPLATFILL_OT_import_splats(bpy.types.Operator):
         return {"RUNNING_MODAL"}
 
     def execute(self, context):
-        from ..addon.splat_ply import SplatFileError
+        from ..addon.formats import InputError
 
         ply = Path(bpy.path.abspath(self.filepath))
-        run = {"splatfill_run": str(ply.parent)} if (ply.parent / "config.json").is_file() else {}
+        run = {"splatfill_run": str(ply.parent)} if layout.RunLayout(ply.parent).config_json.is_file() else {}
         try:
             start = time.perf_counter()
             collection = import_run_ply(ply, ply.parent.name, **run)
-        except SplatFileError as exc:
+        except InputError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
         self.report({"INFO"}, f"imported {len(collection.objects)} objects from {ply} in "
@@ -120,7 +144,7 @@ class SPLATFILL_OT_train(EngineOperator, bpy.types.Operator):
         return args + (["--steps", str(self.steps)] if self.steps else [])
 
     def finish(self, context, records):
-        import_run_ply(self._out / "point_cloud.ply", self._out.name, splatfill_run=str(self._out))
+        import_run_ply(layout.RunLayout(self._out).point_cloud, self._out.name, splatfill_run=str(self._out))
         return f"trained {self._out}"
 
 
@@ -142,7 +166,7 @@ class SPLATFILL_OT_remove_selected(EngineOperator, bpy.types.Operator):
 
     def finish(self, context, records):
         done = done_record(records, "removal")
-        import_run_ply(self._out / "point_cloud.ply", f"{self._run.name} without {self._name}",
+        import_run_ply(layout.RemovedLayout(self._out).point_cloud, f"{self._run.name} without {self._name}",
                        splatfill_run=str(self._run), splatfill_removed=str(self._out))
         return f"removed {done.get('removed')} Gaussians of {self._name}: {self._out}"
 
@@ -169,7 +193,7 @@ class SPLATFILL_OT_inpaint(EngineOperator, bpy.types.Operator):
     bl_idname = "splatfill.inpaint"
     bl_label = "Inpaint"
     bl_description = "Fill the hole masks of the removed renders in 2D (RGB and depth)"
-    inpainter: bpy.props.EnumProperty(name="Inpainter", items=INPAINTERS, default="telea")
+    inpainter: bpy.props.EnumProperty(name="Inpainter", items=_inpainter_items)
 
     def engine_args(self, context, device):
         self._collection = _run_collection(context, "splatfill_holes")
@@ -188,8 +212,7 @@ class SPLATFILL_OT_complete(EngineOperator, bpy.types.Operator):
     bl_idname = "splatfill.complete"
     bl_label = "Complete"
     bl_description = "Fill the hole in 3D (FT or Init) from the inpainted views, score it, import the result"
-    method: bpy.props.EnumProperty(name="Method", items=[("ft", "FT", "finetune the removed scene"),
-                                                         ("init", "Init", "train a new scene")], default="ft")
+    method: bpy.props.EnumProperty(name="Method", items=_method_items)
     refs: bpy.props.IntProperty(name="Reference views", default=3, min=0, description="FT: 0 = all")
     perceptual: bpy.props.EnumProperty(name="Perceptual term", items=[("lpips", "LPIPS", ""), ("l1", "L1", "")],
                                        default="lpips")
@@ -198,15 +221,19 @@ class SPLATFILL_OT_complete(EngineOperator, bpy.types.Operator):
         self._collection = c = _run_collection(context, "splatfill_inpainted")
         removed = Path(c["splatfill_removed"])
         self._out = removed.parent / f"complete-{self.method}-{removed.name}-{_stamp()}"
+        method = next(m for m in engine_plugins()["methods"] if m["name"] == self.method)
+        own = {o["name"] for o in method["options"]}  # only the chosen method's options reach the engine
+        options = [arg for name in ("refs", "perceptual") if name in own
+                   for arg in (f"--{name}", str(getattr(self, name)))]
         return ["complete", "--run", c["splatfill_run"], "--removed", str(removed), "--holes", c["splatfill_holes"],
                 "--inpainted", c["splatfill_inpainted"], "--inpainter", c["splatfill_inpainter"], "--method",
-                self.method, "--refs", str(self.refs), "--perceptual", self.perceptual, "--out", str(self._out),
-                "--device", device]
+                self.method, *options, "--out", str(self._out), "--device", device]
 
     def finish(self, context, records):
         done = done_record(records, "complete")
-        import_run_ply(self._out / "run" / "point_cloud.ply", done["method"], splatfill_run=str(self._out / "run"),
-                       splatfill_scores=str(self._out / "scores.json"))
+        out = layout.CompleteLayout(self._out)
+        import_run_ply(out.run.point_cloud, done["method"], splatfill_run=str(out.run.root),
+                       splatfill_scores=str(out.scores_json))
         return f"{done['method']}: m-PSNR {done.get('m_psnr')} dB, {self._out}"
 
 

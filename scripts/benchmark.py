@@ -37,10 +37,10 @@ add_repo_to_path()
 from benchmark_report import write_reports  # noqa: E402
 
 from addon.engine_call import EngineError, run_engine  # noqa: E402
-from engine.complete.method_names import method_name  # noqa: E402
+from engine.complete.registry import benchmark_cells, get, resolve_options  # noqa: E402
+from engine.formats.layout import RunLayout, SceneLayout  # noqa: E402
 
-METHODS = {"init": ("init", 3, False), "direct": ("direct", 3, False), "ft3": ("ft", 3, False),
-           "ftall": ("ft", 0, False), "init-colmap": ("init", 3, True)}  # -> (method, refs, recolmap)
+BENCHWIDE_OPTIONS = ("perceptual",)  # options the benchmark sets for every method that has them
 COLUMNS = [("psnr", "PSNR", max), ("m_psnr", "m-PSNR", max), ("ssim", "SSIM", max), ("m_ssim", "m-SSIM", max),
            ("lpips", "LPIPS", min), ("m_lpips", "m-LPIPS", min), ("fid", "FID", min), ("m_fid", "m-FID", min),
            ("kid", "KID", min), ("m_kid", "m-KID", min), ("seconds", "Run time (s)", min),
@@ -53,7 +53,7 @@ class Stages:
     def __init__(self, scene: Path, seed: int, work: Path, args: argparse.Namespace) -> None:
         self.scene, self.seed, self.args = scene, seed, args
         self.root = work / scene.name / f"seed{seed}"
-        self.run = self.root / "run"
+        self.run = RunLayout(self.root / "run")
         self.times_file = self.root / "stage_times.json"
         self.times = json.loads(self.times_file.read_text()) if self.times_file.is_file() else {}
 
@@ -68,63 +68,77 @@ class Stages:
 
     def train(self) -> None:
         a = self.args
-        resume = ["--resume"] if (self.run / "config.json").is_file() else []
+        resume = ["--resume"] if self.run.config_json.is_file() else []
         options = ["--preset", a.preset, "--max-gaussians", str(a.max_gaussians), "--device", a.device]
         options += ["--steps", str(a.steps)] if a.steps else []
-        self.stage("train", self.run / "point_cloud.ply", ["train", "--scene", str(self.scene), "--out",
-                                                           str(self.run), "--seed", str(self.seed), *options, *resume])
+        run = str(self.run.root)
+        self.stage("train", self.run.point_cloud, ["train", "--scene", str(self.scene), "--out", run, "--seed",
+                                                   str(self.seed), *options, *resume])
 
-    def prepare(self, inpainter: str, direct: bool) -> None:
-        device = ["--device", self.args.device]
+    def prepare(self, inpainter: str, source: str) -> None:
+        device, run = ["--device", self.args.device], str(self.run.root)
         self.train()
         target = _target(self.scene)
-        self.stage("remove", self.run / "removed", ["remove", "--run", str(self.run), "--object", target, *device])
-        self.stage("holes", self.run / "holes", ["holes", "--run", str(self.run), *device])
-        dilate = ["--dilate", str(self.args.dilate)]
-        if direct:
-            self.stage(f"inpaint-direct-{inpainter}", self.run / "inpainted" / f"direct-{inpainter}",
-                       ["inpaint", "--run", str(self.run), "--inpainter", inpainter, "--source", "input", *dilate])
-        else:
-            self.stage(f"inpaint-{inpainter}", self.run / "inpainted" / inpainter,
-                       ["inpaint", "--run", str(self.run), "--inpainter", inpainter, *dilate])
+        self.stage("remove", self.run.removed.root, ["remove", "--run", run, "--object", target, *device])
+        self.stage("holes", self.run.holes.root, ["holes", "--run", run, *device])
+        self.stage(_inpaint_key(inpainter, source), self.run.inpainted(inpainter, source).root,
+                   ["inpaint", "--run", run, "--inpainter", inpainter, "--source", source,
+                    "--dilate", str(self.args.dilate)])
 
-    def seconds(self, method: str, inpainter: str, complete: float) -> float:
-        if method == "direct":
-            return self.times.get(f"inpaint-direct-{inpainter}", 0) + complete
+    def seconds(self, source: str, inpainter: str, complete: float) -> float:
+        """A method's run time: the stages it needs (Init and FT: train + remove + holes + inpaint +
+        complete; methods that paint the input images: their inpainting + complete)."""
+        if source == "input":
+            return self.times.get(_inpaint_key(inpainter, source), 0) + complete
         shared = ("train", "remove", "holes", f"inpaint-{inpainter}")
         return sum(self.times.get(k, 0) for k in shared) + complete
 
 
+def _inpaint_key(inpainter: str, source: str) -> str:
+    return f"inpaint-{inpainter}" if source == "removed" else f"inpaint-direct-{inpainter}"
+
+
 def _target(scene: Path) -> str:
-    objects = json.loads((scene / "masks" / "objects.json").read_text())
-    targets = [o["name"] for o in objects if o.get("target")]
+    path = SceneLayout(scene).objects_json
+    targets = [o["name"] for o in json.loads(path.read_text()) if o.get("target")]
     if not targets:
-        raise EngineError(f"{scene}/masks/objects.json marks no target object")
+        raise EngineError(f"{path} marks no target object")
     return targets[0]
 
 
+def _option_flags(options: dict) -> list[str]:
+    flags = []
+    for name, value in options.items():
+        flag = "--" + name.replace("_", "-")
+        flags += ([flag if value else f"--no-{name.replace('_', '-')}"] if isinstance(value, bool)
+                  else [flag, str(value)])
+    return flags
+
+
 def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespace) -> dict:
-    kind, refs, recolmap = METHODS[method]
-    name = method_name(kind, inpainter, refs, args.perceptual, recolmap)
+    spec = benchmark_cells()[method]
+    kind = get(spec.method)
+    wide = {k: getattr(args, k) for k in BENCHWIDE_OPTIONS if k in {o.name for o in kind.options}}
+    options = resolve_options(kind, {**spec.options, **wide})
+    name = kind.title(inpainter, options)
     cell = {"scene": stages.scene.name, "seed": stages.seed, "inpainter": inpainter, "method": name}
-    out = stages.run / "complete" / name
-    if args.report_only and not (out / "scores.json").is_file():
+    out = stages.run.complete(name)
+    if args.report_only and not out.scores_json.is_file():
         return {**cell, "status": "not run", "reason": "not finished when the report was written (--report-only)"}
     try:
-        if not (out / "scores.json").is_file():
-            stages.prepare(inpainter, direct=method == "direct")
-            shutil.rmtree(out, ignore_errors=True)  # an interrupted cell starts again
-            options = ["--method", kind, "--inpainter", inpainter, "--seed", str(stages.seed), "--device",
-                       args.device, "--refs", str(refs), "--perceptual", args.perceptual]
-            options += ["--steps", str(args.complete_steps)] if args.complete_steps else []
-            options += ["--recolmap"] if recolmap else []
-            run_engine(["complete", "--run", str(stages.run), "--out", str(out), *options])
-        report = json.loads((out / "scores.json").read_text())
+        if not out.scores_json.is_file():
+            stages.prepare(inpainter, kind.source)
+            shutil.rmtree(out.root, ignore_errors=True)  # an interrupted cell starts again
+            flags = ["--method", kind.name, "--inpainter", inpainter, "--seed", str(stages.seed), "--device",
+                     args.device, *_option_flags(options)]
+            flags += ["--steps", str(args.complete_steps)] if args.complete_steps else []
+            run_engine(["complete", "--run", str(stages.run.root), "--out", str(out.root), *flags])
+        report = json.loads(out.scores_json.read_text())
     except EngineError as exc:
         return {**cell, "status": "failed", "reason": str(exc)}
     return {**cell, "status": "done", **report["scores"], "gaussians": report["gaussians"],
-            "scene_dir": str(stages.scene), "renders": str(out / "renders"),
-            "seconds": round(stages.seconds(method, inpainter, report["seconds"]), 1),
+            "scene_dir": str(stages.scene), "renders": str(out.renders),
+            "seconds": round(stages.seconds(kind.source, inpainter, report["seconds"]), 1),
             "removed_scores": report["removed_scores"], "unavailable": report["unavailable"]}
 
 
@@ -211,18 +225,21 @@ def pictures(cells: list[dict], out: Path, seed: int, views: int = 4) -> None:
         names = sorted(p.name for p in folders[0][1].glob("*.png"))[:views]
         try:
             run_engine(["compare", "--out", str(out / "pictures" / f"{scene}.png"), "--views", *names,
-                        "--columns", f"GT={scene_dir / 'gt'}", *(f"{m}={f}" for m, f in folders)])
+                        "--columns", f"GT={SceneLayout(scene_dir).gt}", *(f"{m}={f}" for m, f in folders)])
         except EngineError as exc:
             print(f"no picture for {scene}: {exc}", flush=True)
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--scenes", nargs="+", required=True)
-    parser.add_argument("--methods", nargs="+", default=["init", "ft3", "ftall", "direct"], choices=list(METHODS))
+    parser.add_argument("--scenes", nargs="+")
+    cells = list(benchmark_cells())
+    parser.add_argument("--methods", nargs="+", default=["init", "ft3", "ftall", "direct"], choices=cells,
+                        help="benchmark cells, from the completion methods' plug-ins: " + ", ".join(cells))
+    parser.add_argument("--list-methods", action="store_true", help="print the benchmark's cells and exit")
     parser.add_argument("--inpainters", nargs="+", default=["fsr", "telea"])
     parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1])
-    parser.add_argument("--out", required=True)
+    parser.add_argument("--out")
     parser.add_argument("--preset", default="default")
     parser.add_argument("--steps", type=int, default=0, help="training steps of the base runs (0: the preset's)")
     parser.add_argument("--complete-steps", type=int, default=0, help="steps of each completion (0: its default)")
@@ -234,6 +251,11 @@ def main(argv: list[str] | None = None) -> int:
                         help="run nothing: write the tables, chart and pictures from the cells already finished "
                              "(for example after several runs of single seeds into one --out)")
     args = parser.parse_args(script_args(argv))
+    if args.list_methods:
+        print("\n".join(cells))
+        return 0
+    if not args.scenes or not args.out:
+        parser.error("the following arguments are required: --scenes, --out")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     matrix = [(Path(s), seed, inp, m) for s in args.scenes for seed in args.seeds for inp in args.inpainters

@@ -28,28 +28,29 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from blender_entry import add_repo_to_path, script_args  # noqa: E402
 
 add_repo_to_path()
-from addon.cameras import camera_to_world, colmap_record  # noqa: E402
 from addon.engine_call import EngineError, run_engine  # noqa: E402
 from addon.splat_ply import read_splats  # noqa: E402
+from engine.formats import cameras as camera_formats  # noqa: E402
+from engine.formats.layout import RemovedLayout, RunLayout  # noqa: E402
 
 
-def object_centre(run: Path, removed: Path) -> np.ndarray:
+def object_centre(run: RunLayout, removed: RemovedLayout) -> np.ndarray:
     """Where the removed object was: the mean of its Gaussians in the original run (or its box's centre)."""
-    report = json.loads((removed / "removal.json").read_text())
+    report = json.loads(removed.report.read_text())
     if report.get("object") is None:
         box = np.array(report["config"]["box"], dtype=float)
         return (box[:3] + box[3:]) / 2
-    splats = read_splats(run / "point_cloud.ply")
+    splats = read_splats(run.point_cloud)
     mine = splats.groups == report["object"]["id"]
     if not mine.any():
-        raise EngineError(f"no Gaussian of {report['object']['name']} in {run / 'point_cloud.ply'}")
+        raise EngineError(f"no Gaussian of {report['object']['name']} in {run.point_cloud}")
     return splats.positions[mine].mean(0).astype(np.float64)
 
 
 def orbit(records: list[dict], centre: np.ndarray, frames: int) -> list[dict]:
     """`frames` cameras on a circle around `centre`, at the scene cameras' median distance and height."""
     R = np.array([r["R"] for r in records])
-    centres = np.array([camera_to_world(r["R"], r["t"])[:3, 3] for r in records])
+    centres = np.array([camera_formats.camera_to_world(r["R"], r["t"])[:3, 3] for r in records])
     up = -R[:, 1, :].mean(0)  # a camera's -y axis (OpenCV) points up in the world
     up /= np.linalg.norm(up)
     offsets = centres - centre
@@ -86,9 +87,10 @@ def blender_path(camera_name: str) -> list[dict]:
     for k, frame in enumerate(range(scene.frame_start, scene.frame_end + 1)):
         scene.frame_set(frame)
         d = camera.data
-        records.append(colmap_record(f"{k:04d}.png", np.array(camera.matrix_world), d.lens, d.sensor_width,
-                                     d.sensor_height, d.sensor_fit, d.shift_x, d.shift_y, width, height,
-                                     (scene.render.pixel_aspect_x, scene.render.pixel_aspect_y)))
+        aspect = (scene.render.pixel_aspect_x, scene.render.pixel_aspect_y)
+        records.append(camera_formats.colmap_record(f"{k:04d}.png", np.array(camera.matrix_world), d.lens,
+                                                    d.sensor_width, d.sensor_height, d.sensor_fit, d.shift_x,
+                                                    d.shift_y, width, height, aspect))
     return records
 
 
@@ -113,7 +115,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--fps", type=int, default=24)
     parser.add_argument("--device", default="auto")
     args = parser.parse_args(script_args(argv))
-    run, removed, out = Path(args.run), Path(args.removed), Path(args.out)
+    run, removed, out = RunLayout(args.run), RemovedLayout(args.removed), Path(args.out)
     try:
         if out.exists():
             raise EngineError(f"{out} exists: name a new folder for the turntable")
@@ -121,13 +123,13 @@ def main(argv: list[str] | None = None) -> int:
         if args.camera:
             records = blender_path(args.camera)
         else:
-            scene = json.loads((run / "config.json").read_text())["scene"]
+            scene = json.loads(run.config_json.read_text())["scene"]
             run_engine(["cameras", "--scene", scene, "--out", str(out / "scene_cameras.json")])
             records = orbit(json.loads((out / "scene_cameras.json").read_text()), object_centre(run, removed),
                             args.frames)
         (out / "cameras.json").write_text(json.dumps(records, indent=1))
-        after = Path(args.after) if args.after else removed / "point_cloud.ply"
-        for name, ply in (("before", run / "point_cloud.ply"), ("after", after)):
+        after = Path(args.after) if args.after else removed.point_cloud
+        for name, ply in (("before", run.point_cloud), ("after", after)):
             print(f"rendering {name}: {ply}", flush=True)
             run_engine(["render", "--ply", str(ply), "--cameras", str(out / "cameras.json"), "--out", str(out / name),
                         "--device", args.device])

@@ -7,7 +7,7 @@ import pytest
 import torch
 
 from engine.base.errors import InputError
-from engine.inpaint.inpainters import create, names
+from engine.inpaint.registry import create, names
 
 Y, X = np.mgrid[:72, :96]
 TEXTURE = np.stack([128 + 60 * np.sin(X / 9), 128 + 60 * np.cos(Y / 11), 100 + X + 0 * Y], -1).astype(np.uint8)

@@ -19,13 +19,13 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-from pathlib import Path
 
 import numpy as np
 import torch
 
 from engine.base.errors import InputError
 from engine.formats.cameras import backproject, pixel_grid
+from engine.formats.layout import HolesLayout, InpaintedLayout, RemovedLayout
 from engine.inpaint.run import inpainted_dilation
 from engine.io.gaussians import PARAM_NAMES, Gaussians, init_from_points
 from engine.io.image_io import exr_name, read_depth, read_png
@@ -37,8 +37,6 @@ from engine.train.config import TrainConfig
 from engine.train.trained_run import TrainedRun
 from engine.train.trainer import Trainer, grouping_terms
 
-PERCEPTUAL = ("lpips", "l1")
-
 
 def reference_views(holes: dict[int, np.ndarray], train: list[int], count: int) -> list[int]:
     """The `count` training views with the largest holes (0: every training view with a hole)."""
@@ -46,8 +44,9 @@ def reference_views(holes: dict[int, np.ndarray], train: list[int], count: int) 
     return ranked if count == 0 else ranked[:count]
 
 
-def hole_gaussians(scene: Scene, holes: dict[int, np.ndarray], depths: dict[int, np.ndarray], inpainted: Path,
-                   sh_degree: int, seed: int, stride: int = 2, opacity: float = 0.5) -> Gaussians:
+def hole_gaussians(scene: Scene, holes: dict[int, np.ndarray], depths: dict[int, np.ndarray],
+                   inpainted: InpaintedLayout, sh_degree: int, seed: int, stride: int = 2,
+                   opacity: float = 0.5) -> Gaussians:
     """New Gaussians on the inpainted surface (`depths`, one per reference view) of the reference views'
     holes, every `stride`-th pixel, each as wide as half the pixels it stands for (sigma = stride / 2 pixels
     at its depth). Why not 3DGS's nearest-neighbour size: a few hundred points spread over a small hole are
@@ -56,7 +55,7 @@ def hole_gaussians(scene: Scene, holes: dict[int, np.ndarray], depths: dict[int,
     points, colors, sizes = [], [], []
     for i, depth in depths.items():
         camera = scene.cameras[i]
-        image = read_png(inpainted / "images" / camera.name)
+        image = read_png(inpainted.images / camera.name)
         take = holes[i] & np.isfinite(depth) & (depth > 0)
         grid = np.zeros_like(take)
         grid[::stride, ::stride] = True
@@ -109,15 +108,14 @@ class FinetuneObjective:
         return loss + grouping_terms(trainer, view, out)
 
 
-def finetune_setup(settings: TrainConfig, original: TrainedRun, removed: Path, inpainted: Path, holes_dir: Path,
+def finetune_setup(settings: TrainConfig, original: TrainedRun, removed: RemovedLayout, inpainted: InpaintedLayout,
+                   holes_dir: HolesLayout,
                    refs_count: int, perceptual: str, steps: int, seed: int, device: torch.device,
                    lpips_paths: tuple[str, str]) -> tuple[TrainConfig, dict]:
     """The training settings and Trainer plug-ins of a finetuning run (see the module docstring). The
     identity classifier starts as the original run trained it, so the frozen Gaussians' identities keep
     their meaning from the first step."""
     scene = original.scene
-    if perceptual not in PERCEPTUAL:
-        raise InputError(f"perceptual term {perceptual!r} unknown: choose from {', '.join(PERCEPTUAL)}")
     lpips = None
     if perceptual == "lpips":
         from engine.metrics.lpips_metric import Lpips
@@ -126,14 +124,14 @@ def finetune_setup(settings: TrainConfig, original: TrainedRun, removed: Path, i
             lpips = Lpips(*lpips_paths).to(device)
         except InputError as exc:
             raise InputError(f"{exc} (or finetune with --perceptual l1, which the results then name)") from exc
-    if not holes_dir.is_dir():
-        raise InputError(f"{holes_dir} missing: run `python -m engine holes` on the run first")
-    holes = read_masks(holes_dir, scene.cameras, inpainted_dilation(inpainted))
+    if not holes_dir.root.is_dir():
+        raise InputError(f"{holes_dir.root} missing: run `python -m engine holes` on the run first")
+    holes = read_masks(holes_dir.root, scene.cameras, inpainted_dilation(inpainted))
     refs = reference_views(holes, scene.train, refs_count)
     if not refs:
-        raise InputError(f"no training view has a hole in {holes_dir}: nothing to finetune")
-    frozen = load_ply(removed / "point_cloud.ply")
-    depths = {i: read_depth(inpainted / "depth" / exr_name(scene.cameras[i].name)) for i in refs}
+        raise InputError(f"no training view has a hole in {holes_dir.root}: nothing to finetune")
+    frozen = load_ply(removed.point_cloud)
+    depths = {i: read_depth(inpainted.depth / exr_name(scene.cameras[i].name)) for i in refs}
     new = hole_gaussians(scene, holes, depths, inpainted, settings.sh_degree, seed)
     new["identity"] = nearest_identity(new["means"], frozen)
     start = {k: torch.cat([frozen[k].float(), new[k].float()]) for k in PARAM_NAMES}

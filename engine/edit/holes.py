@@ -34,6 +34,7 @@ from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
 from engine.edit.support_plane import stop_at_plane, support_plane
+from engine.formats.layout import HolesLayout, RemovedLayout
 from engine.io.image_io import exr_name, read_depth, read_png, write_png
 from engine.io.masks import dilate
 from engine.io.visibility import DEFAULT_REL_TOL, unseen_mask
@@ -62,10 +63,10 @@ def iou(a: np.ndarray, b: np.ndarray) -> float:
 
 def run_holes(config: HoleConfig) -> dict:
     run = load_run(config.run, config.scene or None)
-    removed = Path(config.removed) if config.removed else run.root / "removed"
-    out = Path(config.out) if config.out else run.root / "holes"
-    if not (removed / "removal.json").is_file():
-        raise InputError(f"{removed}/removal.json missing: run `python -m engine remove --run {run.root} ...` first")
+    removed = RemovedLayout(config.removed) if config.removed else run.layout.removed
+    out = Path(config.out) if config.out else run.layout.holes.root
+    if not removed.report.is_file():
+        raise InputError(f"{removed.report} missing: run `python -m engine remove --run {run.root} ...` first")
     scene, device = run.scene, pick_device(config.device)
     train_cameras = [scene.cameras[i] for i in scene.train]
     progress = Progress("holes: original depth", len(train_cameras))
@@ -74,7 +75,7 @@ def run_holes(config: HoleConfig) -> dict:
         seen_depths.append(picture.depth)
         progress.update(k + 1)
     progress.close()
-    regions = [read_png(removed / "masks" / camera.name, kind="mask") > 0 for camera in scene.cameras]
+    regions = [read_png(removed.masks / camera.name, kind="mask") > 0 for camera in scene.cameras]
     plane = (support_plane(train_cameras, [regions[i] for i in scene.train], seen_depths, config.rel_tol)
              if config.support_plane else None)
     # the object's region in each training view: it hid whatever lies behind it there
@@ -82,24 +83,25 @@ def run_holes(config: HoleConfig) -> dict:
                                                                          scene.cameras[i].height)))
                  for i in scene.train]
     views, sheet = [], []
-    with atomic_output_dir(out) as tmp:
+    with atomic_output_dir(out) as tmp_root:
+        tmp = HolesLayout(tmp_root)
         progress = Progress("holes", len(scene.cameras))
         for i, camera in enumerate(scene.cameras):
             region = regions[i]
-            background = read_depth(removed / "depth" / exr_name(camera.name))
+            background = read_depth(removed.depth / exr_name(camera.name))
             if plane is not None:
                 background = stop_at_plane(camera, region, background, plane, config.rel_tol)
             # where the removed scene renders no surface at all, nothing is there to show: hole
             hole = unseen_mask(camera, region, background, train_cameras, seen_depths, config.rel_tol,
                                occluders)
             hole = dilate(hole | (region & ~np.isfinite(background)), config.dilate)
-            write_png(tmp / camera.name, hole.astype(np.uint8) * 255)
+            write_png(tmp.mask(camera.name), hole.astype(np.uint8) * 255)
             record = {"view": camera.name, "region_px": int(region.sum()), "hole_px": int(hole.sum())}
             if i in scene.holes:
                 record["iou_vs_truth"] = iou(hole, scene.holes[i])
             views.append(record)
             if len(sheet) < 6 and i in scene.test:
-                removed_rgb = read_png(removed / "images" / camera.name)
+                removed_rgb = read_png(removed.images / camera.name)
                 sheet.append(np.concatenate([label(overlay(scene.images[i], region), f"{camera.name} region"),
                                              label(overlay(removed_rgb, hole), "hole")]
                                             + ([label(overlay(scene.gt_images[i], scene.holes[i], (0, 255, 0)),
@@ -108,7 +110,7 @@ def run_holes(config: HoleConfig) -> dict:
             progress.update(i + 1)
         progress.close()
         if sheet:
-            write_png(tmp / "sheet.png", np.concatenate(sheet, axis=0))
+            write_png(tmp.sheet, np.concatenate(sheet, axis=0))
         scored = [v["iou_vs_truth"] for v in views if "iou_vs_truth" in v]
         with_region = [v for v in views if v["region_px"]]
         report = {"config": dataclasses.asdict(config), "views": views,
@@ -116,6 +118,6 @@ def run_holes(config: HoleConfig) -> dict:
                   "support_plane": None if plane is None else [*plane[0].round(5).tolist(), round(plane[1], 5)],
                   "hole_to_region": (float(np.mean([v["hole_px"] / v["region_px"] for v in with_region]))
                                      if with_region else None)}
-        (tmp / "holes.json").write_text(json.dumps(report, indent=1))
+        tmp.report.write_text(json.dumps(report, indent=1))
     emit("done", stage="holes", out=str(out), mean_iou_vs_truth=report["mean_iou_vs_truth"])
     return report

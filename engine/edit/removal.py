@@ -28,6 +28,7 @@ from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
 from engine.formats.cameras import Camera, project, sample_nearest
+from engine.formats.layout import RemovedLayout
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import exr_name, write_depth, write_png
 from engine.io.masks import dilate
@@ -109,14 +110,15 @@ def run_removal(config: RemovalConfig) -> dict:
         raise InputError("give either --object ID_OR_NAME or --box x0 y0 z0 x1 y1 z1")
     config = dataclasses.replace(config, box=[float(v) for v in config.box])
     run = load_run(config.run, config.scene or None)
-    out = Path(config.out) if config.out else run.root / "removed"
+    out = Path(config.out) if config.out else run.layout.removed.root
     device = pick_device(config.device)
     removed, counts = select(run, config)
     remaining = keep(run.gaussians, removed)
     scene = run.scene
     obj = scene.object_by(config.object) if config.object else None
-    with atomic_output_dir(out) as tmp:
-        save_ply(tmp / "point_cloud.ply", remaining)
+    with atomic_output_dir(out) as tmp_root:
+        tmp = RemovedLayout(tmp_root)
+        save_ply(tmp.point_cloud, remaining)
         progress = Progress("removal", len(scene.cameras))
         # the object's region: the scene's masks, else the original's rendered labels; for a box, where
         # the removed Gaussians alone cover a pixel (renders only when the masks do not say)
@@ -129,9 +131,9 @@ def run_removal(config: RemovalConfig) -> dict:
         scores, revealed, sheet = [], [], []
         for i, (camera, original, picture) in enumerate(zip(scene.cameras, regions, after, strict=True)):
             region = _object_region(scene, i, obj, original)
-            write_png(tmp / "images" / camera.name, picture.rgb)
-            write_depth(tmp / "depth" / exr_name(camera.name), picture.depth)
-            write_png(tmp / "masks" / camera.name, region.astype(np.uint8) * 255)
+            write_png(tmp.images / camera.name, picture.rgb)
+            write_depth(tmp.depth / exr_name(camera.name), picture.depth)
+            write_png(tmp.masks / camera.name, region.astype(np.uint8) * 255)
             if i in scene.gt_images and i in scene.holes and i in scene.test:
                 scores.append(_psnr_where(picture.rgb, scene.gt_images[i], ~scene.holes[i]))
                 if (region & ~scene.holes[i]).any():
@@ -143,13 +145,13 @@ def run_removal(config: RemovalConfig) -> dict:
             progress.update(i + 1)
         progress.close()
         if sheet:
-            write_png(tmp / "sheet.png", np.concatenate(sheet, axis=0))
+            write_png(tmp.sheet, np.concatenate(sheet, axis=0))
         report = {"config": dataclasses.asdict(config), "object": dataclasses.asdict(obj) if obj else None,
                   "gaussians_before": int(len(removed)), "removed": int(removed.sum()),
                   "gaussians_after": int((~removed).sum()), "selected_by": counts,
                   "psnr_outside_hole": float(np.mean(scores)) if scores else None,
                   "psnr_revealed": float(np.mean(revealed)) if revealed else None, "views_scored": len(scores)}
-        (tmp / "removal.json").write_text(json.dumps(report, indent=1))
+        tmp.report.write_text(json.dumps(report, indent=1))
     emit("done", stage="removal", out=str(out), removed=report["removed"],
          psnr_outside_hole=report["psnr_outside_hole"])
     return report

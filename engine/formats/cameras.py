@@ -1,17 +1,33 @@
-"""Pinhole cameras in COLMAP's conventions, and the projections between pixels and the world.
+"""Pinhole cameras in COLMAP's conventions: projections between pixels and the world, cameras.json, and the
+conversion to and from Blender cameras. Numpy only: the engine and Blender's Python share this module.
 
 Conventions (the classic source of 3D bugs, so stated once here):
 - Poses are world-to-camera: x_cam = R @ x_world + t, with OpenCV axes (x right, y down, z forward).
 - Pixel coordinates follow COLMAP: the centre of the top-left pixel is (0.5, 0.5), so pixel (col, row)
   has centre (col + 0.5, row + 0.5).
 - Depth is z-depth: the z coordinate in the camera frame, not the ray length.
+- cameras.json is a list of such cameras (PINHOLE fx, fy, cx, cy in pixels, R, t), one record per view. It
+  is how cameras cross between Blender's Python and the engine: make_scene.py writes it for the generator,
+  the add-on reads it to import a scene's cameras (`python -m engine cameras`) and writes it for turntables
+  (`python -m engine render`).
+- Blender's camera looks down its -Z with +Y up, measures its lens against a sensor (the larger image side
+  with the sensor fit below), its principal-point offset as a shift in units of the larger image side, and
+  a non-square pixel as the scene's pixel aspect. The conversion is the one ../shared/reference/blender.md
+  checked to 0 px against COLMAP's projection.
 """
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
+
+from ..base.errors import InputError
+
+SENSOR_MM = 36.0
+FLIP_YZ = np.diag([1.0, -1.0, -1.0])  # OpenCV camera axes <-> Blender camera axes
 
 
 @dataclass(frozen=True)
@@ -93,3 +109,76 @@ def _pixel_index(x: np.ndarray) -> np.ndarray:
     """floor(x) as int64; non-finite or huge values become -1, which lies outside every image."""
     x = np.nan_to_num(np.asarray(x, dtype=np.float64), nan=-1.0, posinf=-1.0, neginf=-1.0)
     return np.floor(np.clip(x, -1.0, 1e9)).astype(np.int64)
+
+
+def camera_record(camera: Camera) -> dict:
+    return {"name": camera.name, "width": camera.width, "height": camera.height, "fx": camera.fx, "fy": camera.fy,
+            "cx": camera.cx, "cy": camera.cy, "R": np.asarray(camera.R).tolist(), "t": np.asarray(camera.t).tolist()}
+
+
+def write_cameras_json(cameras: list[Camera], path: Path) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(json.dumps([camera_record(c) for c in cameras], indent=1))
+    tmp.replace(path)
+    return path
+
+
+def read_cameras_json(path: Path) -> list[Camera]:
+    try:
+        entries = json.loads(Path(path).read_text())
+        return [Camera(name=e["name"], width=int(e["width"]), height=int(e["height"]), fx=float(e["fx"]),
+                       fy=float(e["fy"]), cx=float(e["cx"]), cy=float(e["cy"]),
+                       R=np.array(e["R"], dtype=np.float64), t=np.array(e["t"], dtype=np.float64))
+                for e in entries]
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise InputError(f"cannot read cameras from {path} ({exc}); write it with the add-on or make_scene.py") from exc
+
+
+def blender_settings(fx: float, fy: float, cx: float, cy: float, width: int, height: int) -> dict:
+    """Camera data and render settings that make Blender project like the PINHOLE camera."""
+    landscape = width >= height
+    side = max(width, height)
+    return {
+        "sensor_fit": "HORIZONTAL" if landscape else "VERTICAL",
+        "sensor_width": SENSOR_MM, "sensor_height": SENSOR_MM,
+        "lens": fx * SENSOR_MM / width if landscape else fy * SENSOR_MM / height,
+        "shift_x": (width / 2 - cx) / side * (1.0 if landscape else fy / fx),
+        "shift_y": (cy - height / 2) / side * (fx / fy if landscape else 1.0),
+        "pixel_aspect": (1.0, fx / fy) if landscape else (fy / fx, 1.0),
+        "resolution": (int(width), int(height)),
+    }
+
+
+def camera_to_world(R: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Blender's matrix_world (4x4) for the COLMAP world-to-camera pose R, t."""
+    pose = np.eye(4)
+    pose[:3, :3] = np.asarray(R).T @ FLIP_YZ
+    pose[:3, 3] = -np.asarray(R).T @ np.asarray(t)
+    return pose
+
+
+def colmap_record(name: str, matrix_world: np.ndarray, lens: float, sensor_width: float, sensor_height: float,
+                  sensor_fit: str, shift_x: float, shift_y: float, width: int, height: int,
+                  pixel_aspect: tuple[float, float] = (1.0, 1.0)) -> dict:
+    """The inverse: a Blender camera (any sensor fit, shift and pixel aspect) as a cameras.json record."""
+    aspect_x, aspect_y = pixel_aspect
+    fit = sensor_fit
+    if fit == "AUTO":
+        fit = "HORIZONTAL" if width * aspect_x >= height * aspect_y else "VERTICAL"
+    if fit == "HORIZONTAL":
+        fx = lens / sensor_width * width
+        fy = fx * aspect_x / aspect_y
+    else:
+        fy = lens / (sensor_height if sensor_fit == "VERTICAL" else sensor_width) * height
+        fx = fy * aspect_y / aspect_x
+    side = max(width, height)
+    landscape = fit == "HORIZONTAL"
+    cx = width / 2 - shift_x * side / (1.0 if landscape else fy / fx)
+    cy = height / 2 + shift_y * side / (fx / fy if landscape else 1.0)
+    m = np.asarray(matrix_world, dtype=np.float64)
+    rotation = (m[:3, :3] / np.linalg.norm(m[:3, :3], axis=0)) @ FLIP_YZ  # camera-to-world, OpenCV axes
+    R = rotation.T
+    t = -R @ m[:3, 3]
+    return {"name": name, "width": int(width), "height": int(height), "fx": float(fx), "fy": float(fy),
+            "cx": float(cx), "cy": float(cy), "R": R.tolist(), "t": t.tolist()}

@@ -21,7 +21,8 @@ import numpy as np
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
-from engine.inpaint.inpainters import create
+from engine.formats.layout import HolesLayout, InpaintedLayout, RemovedLayout, RunLayout
+from engine.inpaint.registry import create
 from engine.io.image_io import exr_name, read_depth, read_png, write_depth, write_png
 from engine.io.masks import dilate
 from engine.pictures.preview import colorize_depth, label, overlay
@@ -30,9 +31,9 @@ from engine.train.trained_run import load_run_scene
 SHEET_ROWS = 6
 
 
-def inpainted_dilation(inpainted: Path) -> int:
+def inpainted_dilation(inpainted: InpaintedLayout) -> int:
     """The px an inpainting run grew its masks by (from its config.json): what it filled beyond the holes."""
-    return json.loads((inpainted / "config.json").read_text())["config"].get("dilate", 0)
+    return json.loads(inpainted.config_json.read_text())["config"].get("dilate", 0)
 
 
 @dataclass
@@ -58,33 +59,34 @@ def _inpainter(config: InpaintConfig):
 
 def run_inpaint(config: InpaintConfig) -> dict:
     root = Path(config.run)
-    removed = Path(config.removed) if config.removed else root / "removed"
-    holes = Path(config.holes) if config.holes else root / "holes"
+    run = RunLayout(root)
+    removed = RemovedLayout(config.removed) if config.removed else run.removed
+    holes = HolesLayout(config.holes) if config.holes else run.holes
     inpainter = _inpainter(config)
     direct = config.source == "input" or not inpainter.uses_mask
     if config.source not in ("removed", "input"):
         raise InputError(f"source {config.source!r} unknown: use 'removed' or 'input'")
-    out = Path(config.out) if config.out else root / "inpainted" / (f"direct-{config.inpainter}" if direct
-                                                                     else config.inpainter)
-    needed = [(removed, "remove")] if inpainter.uses_mask else []
-    for folder, command in needed + ([] if direct else [(holes, "holes")]):
+    out = Path(config.out) if config.out else run.inpainted(config.inpainter, "input" if direct else "removed").root
+    needed = [(removed.root, "remove")] if inpainter.uses_mask else []
+    for folder, command in needed + ([] if direct else [(holes.root, "holes")]):
         if not folder.is_dir():
             raise InputError(f"{folder} missing: run `python -m engine {command} --run {root}` first")
     scene = load_run_scene(root)
     prompt = config.prompt or inpainter.default_prompt(scene.root)
     sheets: dict[str, list[np.ndarray]] = {"test": [], "train": []}
     seconds = 0.0
-    with atomic_output_dir(out) as tmp:
+    with atomic_output_dir(out) as tmp_root:
+        tmp = InpaintedLayout(tmp_root)
         progress = Progress(f"inpaint {config.inpainter}", len(scene.cameras))
         for i, camera in enumerate(scene.cameras):
             start = time.perf_counter()
             if not direct:
                 row = _fill_hole(inpainter, config, prompt, scene.images[i], camera.name, removed, holes, tmp)
             else:  # the direct baseline: the object painted out of the input image (its region), RGB only
-                region = (dilate(read_png(removed / "masks" / camera.name, kind="mask") > 0, config.dilate)
+                region = (dilate(read_png(removed.masks / camera.name, kind="mask") > 0, config.dilate)
                           if inpainter.uses_mask else None)
                 filled = inpainter.inpaint(scene.images[i], region, "rgb", prompt)
-                write_png(tmp / "images" / camera.name, filled)
+                write_png(tmp.images / camera.name, filled)
                 row = np.concatenate([label(scene.images[i], f"{camera.name} input"), label(filled, "inpainted")], 1)
             seconds += time.perf_counter() - start
             split = "test" if i in scene.test else "train"
@@ -94,24 +96,24 @@ def run_inpaint(config: InpaintConfig) -> dict:
         progress.close()
         for split, rows in sheets.items():
             if rows:
-                write_png(tmp / f"sheet_{split}.png", np.concatenate(rows, axis=0))
+                write_png(tmp.sheet_of(split), np.concatenate(rows, axis=0))
         report = {"config": dataclasses.asdict(config), "prompt": prompt, "views": len(scene.cameras),
                   "inpaint_seconds": round(seconds, 2)}
-        (tmp / "config.json").write_text(json.dumps(report, indent=1))
+        tmp.config_json.write_text(json.dumps(report, indent=1))
     emit("done", stage="inpaint", out=str(out), seconds=report["inpaint_seconds"])
     return report
 
 
 def _fill_hole(inpainter, config: InpaintConfig, prompt: str | None, image: np.ndarray, name: str,
-               removed: Path, holes: Path, out: Path) -> np.ndarray | None:
+               removed: RemovedLayout, holes: HolesLayout, out: InpaintedLayout) -> np.ndarray | None:
     """Inpaint one view's hole in the removed render, RGB and depth; its sheet row, or None if no hole."""
-    rgb = read_png(removed / "images" / name)
-    depth = read_depth(removed / "depth" / exr_name(name))
-    hole = dilate(read_png(holes / name, kind="mask") > 0, config.dilate)
+    rgb = read_png(removed.images / name)
+    depth = read_depth(removed.depth / exr_name(name))
+    hole = dilate(read_png(holes.mask(name), kind="mask") > 0, config.dilate)
     filled = inpainter.inpaint(rgb, hole, "rgb", prompt)
     filled_depth = inpainter.inpaint(depth, hole, "depth", prompt)
-    write_png(out / "images" / name, filled)
-    write_depth(out / "depth" / exr_name(name), filled_depth)
+    write_png(out.images / name, filled)
+    write_depth(out.depth / exr_name(name), filled_depth)
     return _sheet_row(image, rgb, hole, filled, filled_depth, name) if hole.any() else None
 
 

@@ -15,6 +15,7 @@ import numpy as np
 
 from engine.base.errors import InputError
 from engine.formats.cameras import Camera
+from engine.formats.layout import SceneLayout
 from engine.io import colmap_files
 
 SUPPORTED_MODELS = ("PINHOLE", "SIMPLE_PINHOLE")
@@ -34,11 +35,12 @@ class ColmapModel:
 
 def find_model_dir(scene_root: Path) -> Path:
     """The folder holding the model: `sparse/0/` (COLMAP's layout) or `sparse/`."""
-    for candidate in (scene_root / "sparse" / "0", scene_root / "sparse"):
+    sparse = SceneLayout(scene_root).sparse
+    for candidate in (sparse / "0", sparse):
         if any((candidate / f"cameras{ext}").is_file() for ext in (".bin", ".txt")):
             return candidate
     raise InputError(
-        f"no COLMAP model in {scene_root / 'sparse'}: expected sparse/0/cameras.bin (or .txt); "
+        f"no COLMAP model in {sparse}: expected sparse/0/cameras.bin (or .txt); "
         "run COLMAP (and image_undistorter) on the images first"
     )
 

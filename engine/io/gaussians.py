@@ -15,9 +15,8 @@ import numpy as np
 import torch
 
 from engine.base.knn import knn_distances
+from engine.formats.splat_ply import IDENTITY_DIM, SH_C0
 
-IDENTITY_DIM = 16
-SH_C0 = 0.28209479177387814
 PARAM_NAMES = ("means", "quats", "scales", "opacities", "sh0", "shN", "identity")
 
 Gaussians = dict[str, torch.Tensor]

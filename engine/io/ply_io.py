@@ -1,12 +1,6 @@
-"""The standard 3DGS .ply layout, plus Gaussian Grouping's identity as obj_dc_0..15.
-
-Properties, in the order the reference code writes them:
-  x y z nx ny nz f_dc_0..2 f_rest_0..(3K-1) opacity scale_0..2 rot_0..3 [obj_dc_0..15]
-f_rest is channel-major (all K coefficients of red, then green, then blue), rot is w, x, y, z; opacity is
-a logit and scales are logs, exactly as stored in training. Ordinary splat viewers ignore obj_dc_*.
-The classifier goes beside the .ply as classifier.npz (weight (C, 16), bias (C,)): numpy only, so that
-Blender-side code can group Gaussians by identity without torch.
-"""
+"""Gaussians (torch) to and from the standard 3DGS .ply, whose layout and numpy reader/writer live in
+engine.formats.splat_ply (shared with Blender's side); this module only converts between its columns and
+the engine's tensors."""
 
 from __future__ import annotations
 
@@ -14,60 +8,38 @@ from pathlib import Path
 
 import numpy as np
 import torch
-from plyfile import PlyData, PlyElement
 
 from engine.base.errors import InputError
-from engine.io.gaussians import IDENTITY_DIM, Gaussians
-
-SH_REST_COUNTS = {0: 0, 9: 1, 24: 2, 45: 3}  # number of f_rest properties -> SH degree
-
-
-def _property_names(k: int, with_identity: bool) -> list[str]:
-    names = ["x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2"]
-    names += [f"f_rest_{i}" for i in range(3 * k)]
-    names += ["opacity", "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3"]
-    if with_identity:
-        names += [f"obj_dc_{i}" for i in range(IDENTITY_DIM)]
-    return names
+from engine.formats.splat_ply import (
+    IDENTITY_DIM,
+    property_names,
+    read_classifier,
+    read_vertices,
+    write_classifier,
+    write_vertices,
+)
+from engine.io.gaussians import Gaussians
 
 
 def save_ply(path: Path, gaussians: Gaussians) -> None:
     """Write `gaussians` as a binary little-endian 3DGS .ply (atomically: temp file, then rename)."""
     g = {k: v.detach().cpu().float().numpy() for k, v in gaussians.items()}
     n, k = len(g["means"]), g["shN"].shape[1]
-    columns = [g["means"], np.zeros((n, 3), np.float32), g["sh0"].reshape(n, 3),
-               g["shN"].transpose(0, 2, 1).reshape(n, 3 * k), g["opacities"].reshape(n, 1), g["scales"], g["quats"]]
+    blocks = [g["means"], np.zeros((n, 3), np.float32), g["sh0"].reshape(n, 3),
+              g["shN"].transpose(0, 2, 1).reshape(n, 3 * k), g["opacities"].reshape(n, 1), g["scales"], g["quats"]]
     if "identity" in g:
-        columns.append(g["identity"].reshape(n, IDENTITY_DIM))
-    data = np.concatenate(columns, axis=1).astype(np.float32)
-    names = _property_names(k, "identity" in g)
-    vertex = np.empty(n, dtype=[(name, "f4") for name in names])
-    for i, name in enumerate(names):
-        vertex[name] = data[:, i]
-    tmp = Path(path).with_suffix(".ply.tmp")
-    PlyData([PlyElement.describe(vertex, "vertex")]).write(str(tmp))
-    tmp.replace(path)
+        blocks.append(g["identity"].reshape(n, IDENTITY_DIM))
+    data = np.concatenate(blocks, axis=1).astype(np.float32)
+    names = property_names(k, "identity" in g)
+    write_vertices(path, {name: data[:, i] for i, name in enumerate(names)})
 
 
 def load_ply(path: Path) -> Gaussians:
     """Read a 3DGS .ply (ours or any standard one); identity is zero when the file has none."""
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"missing Gaussian file {path}: train a scene first or pass the right --run")
-    try:
-        ply = PlyData.read(str(path))
-        vertex = ply["vertex"].data
-    except Exception as exc:  # plyfile raises many types on truncated or foreign files
-        raise InputError(f"cannot read {path} as a 3DGS .ply ({type(exc).__name__}: {exc}); "
-                         "the file is truncated or not a splat file") from exc
-    fields = set(vertex.dtype.names or ())
+    vertex = read_vertices(Path(path))
+    fields = set(vertex.dtype.names)
     n_rest = sum(1 for f in fields if f.startswith("f_rest_"))
-    missing = [f for f in _property_names(0, False) if f not in fields and f not in ("nx", "ny", "nz")]
-    if missing or n_rest not in SH_REST_COUNTS:
-        raise InputError(f"{path} is not a 3DGS .ply: missing {missing or f'a valid f_rest count ({n_rest})'}")
-    k = n_rest // 3
-
-    n = len(vertex)
+    n, k = len(vertex), n_rest // 3
 
     def stack(names: list[str]) -> torch.Tensor:
         if not names:
@@ -91,18 +63,11 @@ def load_ply(path: Path) -> Gaussians:
 
 
 def save_classifier(path: Path, classifier: torch.nn.Linear) -> None:
-    tmp = Path(path).with_suffix(".tmp.npz")
-    np.savez(tmp, weight=classifier.weight.detach().cpu().numpy(), bias=classifier.bias.detach().cpu().numpy())
-    tmp.replace(path)
+    write_classifier(path, classifier.weight.detach().cpu().numpy(), classifier.bias.detach().cpu().numpy())
 
 
 def load_classifier(path: Path) -> torch.nn.Linear:
-    path = Path(path)
-    try:
-        data = np.load(path)
-        weight, bias = data["weight"], data["bias"]
-    except (OSError, KeyError, ValueError) as exc:
-        raise InputError(f"cannot read classifier {path} ({exc}); re-run training") from exc
+    weight, bias = read_classifier(Path(path))
     classifier = torch.nn.Linear(weight.shape[1], weight.shape[0])
     with torch.no_grad():
         classifier.weight.copy_(torch.from_numpy(weight))

@@ -22,6 +22,7 @@ import numpy as np
 
 from engine.base.errors import InputError
 from engine.formats.cameras import Camera
+from engine.formats.layout import SceneLayout
 from engine.io.colmap_model import find_model_dir, read_model
 from engine.io.image_io import exr_name, read_depth, read_png
 
@@ -73,24 +74,25 @@ class Scene:
 def load_scene(root: Path | str) -> Scene:
     """Load a scene folder; see the module docstring for the layout."""
     root = Path(root)
+    layout = SceneLayout(root)
     if not root.is_dir():
         raise InputError(f"scene folder {root} does not exist: pass a folder made by make_scene.py or COLMAP")
     model = read_model(find_model_dir(root))
     names = [c.name for c in model.cameras]
-    images = [_read_view_image(root / "images", cam) for cam in model.cameras]
+    images = [_read_view_image(layout.images, cam) for cam in model.cameras]
     train, test = _read_split(root, names)
     scene = Scene(root=root, cameras=model.cameras, images=images, points=model.points,
                   colors=model.colors, train=train, test=test)
-    if (root / "masks").is_dir():
-        scene.masks = [_checked(read_png(root / "masks" / _png(n), "mask"), cam, root / "masks" / _png(n))
+    if layout.masks.is_dir():
+        scene.masks = [_checked(read_png(layout.masks / _png(n), "mask"), cam, layout.masks / _png(n))
                        for n, cam in zip(names, model.cameras, strict=True)]
-        scene.objects = _read_objects(root / "masks" / "objects.json", scene.masks)
-    if (root / "depth").is_dir():
-        scene.depths = [_read_view_depth(root / "depth", cam) for cam in model.cameras]
-    scene.gt_images = _read_optional_views(root / "gt", scene, lambda p, c: _read_view_image(p, c))
-    scene.gt_depths = _read_optional_views(root / "gt_depth", scene, _read_view_depth)
+        scene.objects = _read_objects(layout.objects_json, scene.masks)
+    if layout.depth.is_dir():
+        scene.depths = [_read_view_depth(layout.depth, cam) for cam in model.cameras]
+    scene.gt_images = _read_optional_views(layout.gt, scene, lambda p, c: _read_view_image(p, c))
+    scene.gt_depths = _read_optional_views(layout.gt_depth, scene, _read_view_depth)
     scene.holes = _read_optional_views(
-        root / "holes", scene, lambda p, c: _checked(read_png(p / _png(c.name), "mask"), c, p / _png(c.name)) > 127
+        layout.holes, scene, lambda p, c: _checked(read_png(p / _png(c.name), "mask"), c, p / _png(c.name)) > 127
     )
     return scene
 
@@ -132,7 +134,7 @@ def _read_optional_views(folder: Path, scene: Scene, read) -> dict[int, np.ndarr
 
 
 def _read_split(root: Path, names: list[str]) -> tuple[list[int], list[int]]:
-    path = root / "split.json"
+    path = SceneLayout(root).split_json
     if not path.is_file():
         test = [i for i in range(len(names)) if i % LLFF_HOLD == 0]
         return [i for i in range(len(names)) if i not in test], test

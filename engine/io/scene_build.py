@@ -17,8 +17,7 @@ import numpy as np
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
-from engine.formats.camera_json import read_cameras_json
-from engine.formats.cameras import Camera, backproject, pixel_grid, project
+from engine.formats.cameras import Camera, backproject, pixel_grid, project, read_cameras_json
 from engine.io.colmap_model import ColmapModel, write_model
 from engine.io.image_io import linear_to_srgb8, read_exr_channels, write_depth, write_png
 from engine.io.visibility import DEFAULT_REL_TOL, seen_by_any, unseen_mask

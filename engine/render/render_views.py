@@ -13,11 +13,11 @@ import torch
 from engine.base.device import pick_device
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
-from engine.formats.camera_json import read_cameras_json
-from engine.formats.cameras import Camera
+from engine.formats.cameras import Camera, read_cameras_json
+from engine.formats.splat_ply import SH_REST_COUNTS
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import write_png
-from engine.io.ply_io import SH_REST_COUNTS, load_ply
+from engine.io.ply_io import load_ply
 from engine.render.rasterize import CameraTensors, render
 
 MIN_ALPHA = 0.5  # below this the expected depth is mostly background-free guesswork: stored as inf

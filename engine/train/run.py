@@ -1,12 +1,9 @@
 """`python -m engine train`: a training run in its own folder, resumable and cancellable.
 
-Run folder:
-  config.json           the resolved TrainConfig
-  checkpoints/          step_XXXXXXX.pt, the last `keep_checkpoints` of them
-  point_cloud.ply       final Gaussians, standard 3DGS layout + obj_dc_*     (written at the end)
-  classifier.npz        the identity classifier (weight (C, 16), bias (C,))
-  objects.json          the scene's objects, so ids have names
-  metrics.json          test PSNR/SSIM, identity mIoU, Gaussians, wall time
+Run folder (engine.formats.layout.RunLayout): config.json, the resolved TrainConfig; checkpoints/, the last
+`keep_checkpoints` step_XXXXXXX.pt; at the end point_cloud.ply (standard 3DGS layout + obj_dc_*),
+classifier.npz (weight (C, 16), bias (C,)), objects.json (so ids have names) and metrics.json (test
+PSNR/SSIM, identity mIoU, Gaussians, wall time).
 The scene folder is only read. SIGINT/SIGTERM write a checkpoint and end the run with status 130;
 `--resume` continues from the newest checkpoint with the saved config.
 """
@@ -24,6 +21,7 @@ import torch
 from engine.base.device import pick_device
 from engine.base.errors import Cancelled, InputError
 from engine.base.progress import Progress, emit
+from engine.formats.layout import RunLayout
 from engine.io.ply_io import save_classifier, save_ply
 from engine.io.scene import load_scene
 from engine.metrics.evaluate import evaluate_views
@@ -38,7 +36,7 @@ def _write_json(path: Path, data: dict) -> None:
 
 
 def save_checkpoint(run: Path, trainer: Trainer, keep: int) -> Path:
-    folder = run / "checkpoints"
+    folder = RunLayout(run).checkpoints
     folder.mkdir(exist_ok=True)
     path = folder / f"step_{trainer.step_index:07d}.pt"
     tmp = path.with_suffix(".pt.tmp")
@@ -50,22 +48,23 @@ def save_checkpoint(run: Path, trainer: Trainer, keep: int) -> Path:
 
 
 def latest_checkpoint(run: Path) -> Path | None:
-    found = sorted((run / "checkpoints").glob("step_*.pt"))
+    found = sorted(RunLayout(run).checkpoints.glob("step_*.pt"))
     return found[-1] if found else None
 
 
 def prepare_run(config: TrainConfig, resume: bool) -> TrainConfig:
     """Create the run folder (or check the one being resumed) and return the config to use."""
     run = Path(config.out)
+    layout = RunLayout(run)
     if resume:
-        if not (run / "config.json").is_file():
+        if not layout.config_json.is_file():
             raise InputError(f"cannot resume {run}: it has no config.json; start a new run without --resume")
-        return TrainConfig(**json.loads((run / "config.json").read_text()))
+        return TrainConfig(**json.loads(layout.config_json.read_text()))
     if run.exists() and any(run.iterdir()):
         raise InputError(f"run folder {run} already exists: pass --resume to continue it, or choose a new --out")
     config = config.resolved()
     run.mkdir(parents=True, exist_ok=True)
-    _write_json(run / "config.json", dataclasses.asdict(config))
+    _write_json(layout.config_json, dataclasses.asdict(config))
     return config
 
 
@@ -123,9 +122,9 @@ def _synchronize(device: torch.device) -> None:
 
 def _finish(trainer: Trainer, scene, run: Path) -> dict:
     save_checkpoint(run, trainer, trainer.config.keep_checkpoints)
-    save_ply(run / "point_cloud.ply", trainer.gaussians)
-    save_classifier(run / "classifier.npz", trainer.classifier)
-    _write_json(run / "objects.json", {"objects": [dataclasses.asdict(o) for o in scene.objects]})
+    save_ply(RunLayout(run).point_cloud, trainer.gaussians)
+    save_classifier(RunLayout(run).classifier, trainer.classifier)
+    _write_json(RunLayout(run).objects_json, {"objects": [dataclasses.asdict(o) for o in scene.objects]})
     start = time.perf_counter()
     metrics = evaluate_views(scene, scene.test, trainer.gaussians, trainer.classifier, trainer.sh_degree,
                              trainer.device)
@@ -134,6 +133,6 @@ def _finish(trainer: Trainer, scene, run: Path) -> dict:
                    device=str(trainer.device),
                    peak_gpu_mb=(round(torch.cuda.max_memory_allocated() / 2**20, 1)
                                 if trainer.device.type == "cuda" else None))
-    _write_json(run / "metrics.json", metrics)
+    _write_json(RunLayout(run).metrics_json, metrics)
     emit("done", run=str(run), **{k: v for k, v in metrics.items() if isinstance(v, (int, float, str))})
     return metrics

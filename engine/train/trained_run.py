@@ -13,6 +13,7 @@ from pathlib import Path
 import torch
 
 from engine.base.errors import InputError
+from engine.formats.layout import RunLayout
 from engine.io.gaussians import Gaussians
 from engine.io.ply_io import load_classifier, load_ply
 from engine.io.scene import Scene, load_scene
@@ -28,21 +29,26 @@ class TrainedRun:
     classifier: torch.nn.Linear
     sh_degree: int
 
+    @property
+    def layout(self) -> RunLayout:
+        return RunLayout(self.root)
+
 
 def _read_run(root: Path, scene: Path | str | None) -> tuple[TrainConfig, int, Path]:
     """The run's config, its step count and its scene folder, checked, each problem a one-line error."""
-    for name in ("config.json", "metrics.json", "point_cloud.ply", "classifier.npz"):
-        if not (root / name).is_file():
-            raise InputError(f"{root / name} missing: {root} is not a finished training run "
+    layout = RunLayout(root)
+    for path in (layout.config_json, layout.metrics_json, layout.point_cloud, layout.classifier):
+        if not path.is_file():
+            raise InputError(f"{path} missing: {root} is not a finished training run "
                              f"(train with `python -m engine train --scene DIR --out {root}`, or --resume it)")
     try:
-        config = TrainConfig(**json.loads((root / "config.json").read_text()))
-        steps = int(json.loads((root / "metrics.json").read_text())["steps"])
+        config = TrainConfig(**json.loads(layout.config_json.read_text()))
+        steps = int(json.loads(layout.metrics_json.read_text())["steps"])
     except (ValueError, TypeError, KeyError) as exc:
         raise InputError(f"cannot read {root}/config.json or metrics.json ({exc}); re-run training") from exc
     scene_dir = Path(scene) if scene is not None else Path(config.scene)
     if not scene_dir.is_dir():
-        raise InputError(f"scene folder {scene_dir} named in {root / 'config.json'} is gone: pass --scene DIR")
+        raise InputError(f"scene folder {scene_dir} named in {layout.config_json} is gone: pass --scene DIR")
     return config, steps, scene_dir
 
 
@@ -56,5 +62,6 @@ def load_run(root: Path | str, scene: Path | str | None = None) -> TrainedRun:
     root = Path(root)
     config, steps, scene_dir = _read_run(root, scene)
     return TrainedRun(root=root, config=config, scene=load_scene(scene_dir),
-                      gaussians=load_ply(root / "point_cloud.ply"), classifier=load_classifier(root / "classifier.npz"),
+                      gaussians=load_ply(RunLayout(root).point_cloud),
+                      classifier=load_classifier(RunLayout(root).classifier),
                       sh_degree=config.sh_degree_at(steps))

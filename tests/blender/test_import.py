@@ -11,9 +11,10 @@ import pytest
 from bpy_extras.object_utils import world_to_camera_view
 from mathutils import Vector
 
-from addon.cameras import colmap_record
+from addon.formats import cameras as camera_formats
 from addon.import_scene import import_cameras, import_splats
-from addon.splat_ply import SplatFileError, read_splats
+from addon.splat_ply import read_splats
+from engine.base.errors import InputError
 
 # landscape, portrait, fx != fy, and principal points off centre: the cases a 36 mm shortcut gets wrong
 INTRINSICS = [(640, 480, 500.0, 500.0, 320.0, 240.0), (480, 640, 520.0, 520.0, 250.0, 300.0),
@@ -25,7 +26,7 @@ def _rotation(rng: np.random.Generator) -> np.ndarray:
     return q * np.sign(np.linalg.det(q))
 
 
-def test_imported_cameras_project_known_points_like_colmap():
+def test_imported_cameras_project_known_points_like_colmap(tmp_path: Path):
     rng = np.random.default_rng(0)
     records = []
     for k, (w, h, fx, fy, cx, cy) in enumerate(INTRINSICS):
@@ -34,7 +35,8 @@ def test_imported_cameras_project_known_points_like_colmap():
                         "R": R.tolist(), "t": (rng.normal(size=3) + [0, 0, 6]).tolist()})
     collection = bpy.data.collections.new("cameras")
     bpy.context.scene.collection.children.link(collection)
-    cameras = import_cameras(records, collection)
+    (tmp_path / "cameras.json").write_text(json.dumps(records))
+    cameras = import_cameras(tmp_path / "cameras.json", collection)
     scene = bpy.context.scene
     worst = 0.0
     for r, obj in zip(records, cameras, strict=True):
@@ -48,7 +50,7 @@ def test_imported_cameras_project_known_points_like_colmap():
             v = r["fy"] * p_cam[1] / p_cam[2] + r["cy"]
             ndc = world_to_camera_view(scene, obj, Vector(p_world))
             worst = max(worst, abs(ndc.x * r["width"] - u), abs((1 - ndc.y) * r["height"] - v))
-        back = colmap_record(r["name"], np.array(obj.matrix_world), obj.data.lens, obj.data.sensor_width,
+        back = camera_formats.colmap_record(r["name"], np.array(obj.matrix_world), obj.data.lens, obj.data.sensor_width,
                              obj.data.sensor_height, obj.data.sensor_fit, obj.data.shift_x, obj.data.shift_y,
                              r["width"], r["height"], tuple(obj["splatfill_pixel_aspect"]))
         for key in ("fx", "fy", "cx", "cy"):
@@ -112,5 +114,5 @@ def test_ply_import_makes_one_proxy_object_per_identity_with_its_gaussians(tmp_p
 def test_corrupt_ply_names_the_file(tmp_path: Path):
     bad = tmp_path / "broken.ply"
     bad.write_bytes(b"ply\nformat binary_little_endian 1.0\nelement vertex 10\nproperty float x\nend_header\n")
-    with pytest.raises(SplatFileError, match="broken.ply"):
+    with pytest.raises(InputError, match="broken.ply"):
         read_splats(bad)

@@ -23,7 +23,8 @@ import cv2
 import numpy as np
 
 from engine.base.errors import InputError
-from engine.inpaint.inpainters import Inpainter, register
+from engine.base.plugins import Needs
+from engine.inpaint.registry import Inpainter, register
 
 POSITIVE = ("Restore only the masked region to match the surrounding scene. Keep lighting, colors, texture, "
             "geometry, and perspective consistent. Do not alter any unmasked pixels. Seamless boundary blend.")
@@ -34,6 +35,8 @@ MULTIPLE = 8  # the VAE downsamples by 8
 
 @register("diffusion")
 class Diffusion(Inpainter):
+    summary = "a local diffusers inpainting folder (SD, SDXL, PowerPaint, BrushNet)"
+    needs = Needs(weights=("diffusers folder (--model or DIFFUSION_MODEL)",), gpu=True)
     def __init__(self, model: str = "", device: str = "", steps: int = 45, guidance_rgb: float = 20.0,
                  guidance_depth: float = 10.0, negative_prompt: str = NEGATIVE, seed: int = 0, **options) -> None:
         super().__init__(**options)

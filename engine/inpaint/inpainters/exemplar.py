@@ -19,7 +19,7 @@ import cv2
 import numpy as np
 import torch
 
-from engine.inpaint.inpainters import Inpainter, register
+from engine.inpaint.registry import Inpainter, register
 
 PATCH = 9  # px, odd: the published default
 WINDOW_MARGIN = 48  # px around the hole's bounding box at least
@@ -137,5 +137,6 @@ def _best_source(sources: torch.Tensor, squares: torch.Tensor, target: np.ndarra
 
 @register("exemplar")
 class Exemplar(Inpainter):
+    summary = "exemplar-based texture synthesis (Criminisi 2004), ours, in torch"
     def inpaint_rgb(self, image, mask, prompt):
         return exemplar_fill(image, mask)

@@ -17,7 +17,8 @@ import cv2
 import numpy as np
 
 from engine.base.errors import InputError
-from engine.inpaint.inpainters import Inpainter, register
+from engine.base.plugins import Needs
+from engine.inpaint.registry import Inpainter, register
 
 ONNX_SIZE = 512
 PAD = 8
@@ -25,6 +26,8 @@ PAD = 8
 
 @register("lama")
 class Lama(Inpainter):
+    summary = "LaMa from your weights: big-lama.pt (TorchScript) or lama_fp32.onnx"
+    needs = Needs(weights=("LaMa (--model or LAMA_MODEL)",))
     def __init__(self, model: str = "", device: str = "cpu", **options) -> None:
         super().__init__(**options)
         path = Path(model or os.environ.get("LAMA_MODEL", ""))

@@ -20,7 +20,8 @@ import cv2
 import numpy as np
 
 from engine.base.errors import InputError
-from engine.inpaint.inpainters import Inpainter, register
+from engine.base.plugins import Needs
+from engine.inpaint.registry import Inpainter, register
 
 MODEL = "gemini-2.5-flash-image"
 
@@ -54,6 +55,8 @@ PAPER_PROMPTS = {
 
 @register("nanobanana")
 class NanoBanana(Inpainter):
+    summary = "Gemini 2.5 Flash Image paints the object out of the input image (the paper's direct baseline)"
+    needs = Needs(keys=("GEMINI_API_KEY",), packages=("google-genai",))
     uses_mask = False
 
     def __init__(self, model: str = MODEL, base_url: str = "", timeout_s: float = 120.0, **options) -> None:

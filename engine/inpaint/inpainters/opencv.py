@@ -7,19 +7,22 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from engine.inpaint.inpainters import Inpainter, register
+from engine.base.plugins import Needs
+from engine.inpaint.registry import Inpainter, register
 
 RADIUS = 5  # px of neighbourhood Telea and Navier-Stokes look at
 
 
 @register("telea")
 class Telea(Inpainter):
+    summary = "OpenCV Telea: smooth fill from the hole's border"
     def inpaint_rgb(self, image, mask, prompt):
         return cv2.inpaint(image, mask.astype(np.uint8), RADIUS, cv2.INPAINT_TELEA)
 
 
 @register("navier-stokes")
 class NavierStokes(Inpainter):
+    summary = "OpenCV Navier-Stokes: smooth fill along isophotes"
     def inpaint_rgb(self, image, mask, prompt):
         return cv2.inpaint(image, mask.astype(np.uint8), RADIUS, cv2.INPAINT_NS)
 
@@ -34,12 +37,16 @@ def _xphoto(image: np.ndarray, mask: np.ndarray, method: int) -> np.ndarray:
 
 @register("fsr")
 class FrequencySelective(Inpainter):
+    summary = "OpenCV xphoto frequency-selective reconstruction"
+    needs = Needs(packages=("opencv-contrib",))
     def inpaint_rgb(self, image, mask, prompt):
         return _xphoto(image, mask, cv2.xphoto.INPAINT_FSR_FAST)
 
 
 @register("shiftmap")
 class ShiftMap(Inpainter):
+    summary = "OpenCV xphoto shift-map: texture synthesis by copying patches"
+    needs = Needs(packages=("opencv-contrib",))
     def inpaint_rgb(self, image, mask, prompt):
         # shift-map works in Lab, as its authors' OpenCV sample does
         lab = cv2.cvtColor(image, cv2.COLOR_RGB2Lab)

@@ -1,0 +1,33 @@
+"""FT-<inpainter>(3 | All): finetune the removed scene into its hole from the reference views' inpainting,
+the removed Gaussians frozen for real (engine.complete.finetune has the losses and why). With the L1
+perceptual term instead of LPIPS the name says so: FT-<inpainter>(3)[l1]."""
+
+from __future__ import annotations
+
+from engine.base.plugins import Needs
+from engine.complete.registry import CompletionMethod, Option, register
+
+PERCEPTUAL = ("lpips", "l1")
+
+
+@register
+class Finetune(CompletionMethod):
+    name = "ft"
+    label = "FT"
+    summary = "finetune the removed scene into the hole, its Gaussians frozen (the paper's FT)"
+    options = (Option("refs", 3, "reference views: the training views with the largest holes (0 = all with a hole)"),
+               Option("perceptual", "lpips", "the term on non-reference views", PERCEPTUAL))
+    needs = Needs(weights=("LPIPS backbone (--lpips-backbone; or --perceptual l1)",))
+    cells = {"ft3": {"refs": 3}, "ftall": {"refs": 0}}
+
+    def title(self, inpainter: str, options: dict) -> str:
+        tag = "" if options["perceptual"] == "lpips" else f"[{options['perceptual']}]"
+        return f"FT-{inpainter}({options['refs'] or 'All'}){tag}"
+
+    def setup(self, job, settings):
+        from engine.complete.finetune import finetune_setup
+
+        steps = job.config.steps or max(job.original.config.steps // 10, 100)
+        return finetune_setup(settings, job.original, job.removed, job.inpainted, job.holes, job.options["refs"],
+                              job.options["perceptual"], steps, job.config.seed, job.device,
+                              (job.config.lpips_backbone, job.config.lpips_heads))

@@ -1,0 +1,31 @@
+"""Init-<inpainter> (the paper's re-initialisation): a new scene trained from scratch on the inpainted views.
+
+The training images are the inpainted render inside the removed object's region (removal's masks grown by
+the inpainting's dilation and 2 px) and the input image outside it; original cameras and sparse points,
+the removed object's id turned into background. Why not the renders alone: outside the region the input
+image is the truth, and a render of the removed scene is only a copy of it with the model's errors, which
+a new scene would learn. (Measured on a tiny run, test-view PSNR: 16.0 dB on renders alone, 16.4 with the
+input images, against 20.0 for the unfilled scene; most of that gap is the tiny runs' seed noise.)
+"""
+
+from __future__ import annotations
+
+from engine.complete.registry import register
+from engine.complete.retrain import NewSceneMethod
+
+MARGIN_PX = 2  # beyond the inpainting's own dilation
+
+
+@register
+class Init(NewSceneMethod):
+    name = "init"
+    label = "Init"
+    summary = "train a new scene from the inpainted views (the paper's Init)"
+    cells = {"init": {}, "init-colmap": {"recolmap": True}}
+
+    def keep_regions(self, job) -> dict:
+        from engine.inpaint.run import inpainted_dilation
+        from engine.io.masks import read_masks
+
+        pixels = inpainted_dilation(job.inpainted) + MARGIN_PX
+        return read_masks(job.removed.masks, job.original.scene.cameras, pixels)

@@ -1,0 +1,137 @@
+"""Completion methods as plug-ins: one file in engine/complete/methods/ (or on SPLATFILL_PLUGINS) per method.
+
+A method is a `CompletionMethod` subclass decorated with `@register`. Its class attributes declare what the
+CLI, the benchmark, the Blender menus and the README's table show (name, label, summary, options, needs,
+benchmark cells); its hooks say how it runs, over the one loop in engine.complete.run:
+
+    check(job)          refuse bad options early (one-line InputError)
+    keep_regions(job)   where the training images take the inpainted render (None: everywhere)
+    after_scene(job, scene_dir)   change the training scene once written (COLMAP re-estimation); a report
+    setup(job, settings)          the training settings and Trainer plug-ins (engine.train.trainer)
+
+This module and the method files import neither torch nor OpenCV at their top (hooks import what they need
+when they run), so Blender's Python (scripts/benchmark.py) reads the registry too.
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, ClassVar
+
+from engine.base.errors import InputError
+from engine.base.plugins import Needs, load_plugin_files
+
+_REGISTRY: dict[str, type[CompletionMethod]] = {}
+
+
+@dataclass(frozen=True)
+class Option:
+    """One method option; it becomes the CLI flag --<name> (with _ as -), typed from its default."""
+
+    name: str
+    default: Any
+    help: str
+    choices: tuple = ()
+
+
+class CompletionMethod:
+    """Base of every completion method; see the module docstring for the hooks."""
+
+    name: ClassVar[str] = ""  # --method value
+    label: ClassVar[str] = ""  # short label for menus and tables (the paper's prefix: Init, FT, Direct)
+    summary: ClassVar[str] = ""
+    source: ClassVar[str] = "removed"  # the inpainting it reads: "removed" renders' holes, or "input" images
+    options: ClassVar[tuple[Option, ...]] = ()
+    needs: ClassVar[Needs] = Needs()
+    cells: ClassVar[dict[str, dict]] = {}  # benchmark cell key -> options, e.g. {"ft3": {"refs": 3}}
+
+    def title(self, inpainter: str, options: dict) -> str:
+        """The method's name in results, as the paper writes it (it also names the output folder)."""
+        return f"{self.label}-{inpainter}"
+
+    def check(self, job) -> None:
+        """Refuse options that cannot work, before anything is written."""
+
+    def keep_regions(self, job) -> dict | None:
+        return None
+
+    def after_scene(self, job, scene_dir: Path) -> dict | None:
+        return None
+
+    def setup(self, job, settings):
+        """(settings, Trainer plug-ins or None) of the training run; by default a new run with the
+        original run's settings and step count."""
+        return settings, None
+
+
+def register(cls: type[CompletionMethod]) -> type[CompletionMethod]:
+    if not cls.name:
+        raise TypeError(f"{cls.__name__} declares no name")
+    _REGISTRY[cls.name] = cls
+    return cls
+
+
+def _discover() -> None:
+    from engine.complete import methods
+
+    for module in pkgutil.iter_modules(methods.__path__):
+        importlib.import_module(f"{methods.__name__}.{module.name}")
+    load_plugin_files()
+
+
+def methods() -> dict[str, CompletionMethod]:
+    """Every registered method by name, in registration order of their names (sorted)."""
+    _discover()
+    return {name: _REGISTRY[name]() for name in sorted(_REGISTRY)}
+
+
+def get(name: str) -> CompletionMethod:
+    found = methods()
+    if name not in found:
+        raise InputError(f"unknown method {name!r}; choose from {', '.join(found)}")
+    return found[name]
+
+
+def all_options() -> dict[str, Option]:
+    """Every method's options by name (a name two methods share must mean the same: same default)."""
+    merged: dict[str, Option] = {}
+    for method in methods().values():
+        for option in method.options:
+            if option.name in merged and merged[option.name].default != option.default:
+                raise TypeError(f"option {option.name!r} has two defaults across methods")
+            merged.setdefault(option.name, option)
+    return merged
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One benchmark cell kind: a method with fixed options."""
+
+    key: str
+    method: str
+    options: dict = field(default_factory=dict)
+
+
+def benchmark_cells() -> dict[str, Cell]:
+    return {key: Cell(key, m.name, dict(opts)) for m in methods().values() for key, opts in m.cells.items()}
+
+
+def resolve_options(method: CompletionMethod, given: dict) -> dict:
+    """The method's options from `given` (all methods' options, most at their defaults). An option of
+    another method set away from its default is an error rather than silently ignored."""
+    own = {o.name: o for o in method.options}
+    for name, value in given.items():
+        option = all_options().get(name)
+        if name not in own and option is not None and value != option.default:
+            flag = "--" + name.replace("_", "-")
+            raise InputError(f"{flag} is not an option of --method {method.name} (its options: "
+                             f"{', '.join(own) or 'none'})")
+    resolved = {name: given.get(name, o.default) for name, o in own.items()}
+    for name, value in resolved.items():
+        if own[name].choices and value not in own[name].choices:
+            raise InputError(f"--{name.replace('_', '-')} {value!r} unknown: choose from "
+                             f"{', '.join(map(str, own[name].choices))}")
+    return resolved

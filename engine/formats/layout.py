@@ -1,0 +1,220 @@
+"""Where every file of a scene folder and of a run folder lives: the one place that spells their names.
+
+The engine's stages, the scripts and the Blender add-on (numpy only) all ask these classes for paths, so
+a folder's layout can change here alone. Each class wraps a root folder and only builds paths: nothing
+here reads or writes.
+
+A scene folder (made by scripts/make_scene.py, or any COLMAP capture):
+    images/  gt/  masks/ (+ objects.json)  depth/  gt_depth/  holes/  sparse/0/  split.json  scene.json
+A run folder (`python -m engine train`), and what each later stage adds to it:
+    config.json checkpoints/ point_cloud.ply classifier.npz objects.json metrics.json    train
+    removed/   point_cloud.ply images/ depth/ masks/ removal.json sheet.png              remove
+    holes/     <view>.png (255 = hole) holes.json sheet.png                               holes
+    inpainted/<inpainter>/ and inpainted/direct-<inpainter>/                              inpaint
+               images/ depth/ config.json sheet_test.png sheet_train.png
+    complete/<Method name>/  scene/ (a scene folder) run/ (a run folder) renders/ scores.json   complete
+               [recolmap.json]
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+RGB, DEPTH, MASKS = "images", "depth", "masks"
+
+
+@dataclass(frozen=True)
+class _Folder:
+    root: Path
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "root", Path(self.root))
+
+
+@dataclass(frozen=True)
+class Views(_Folder):
+    """A folder of per-view pictures named like the scene's images: RGB, z-depth and masks."""
+
+    @property
+    def images(self) -> Path:
+        return self.root / RGB
+
+    @property
+    def depth(self) -> Path:
+        return self.root / DEPTH
+
+    @property
+    def masks(self) -> Path:
+        return self.root / MASKS
+
+    @property
+    def sheet(self) -> Path:
+        return self.root / "sheet.png"
+
+
+@dataclass(frozen=True)
+class SceneLayout(Views):
+    """A scene folder: input views, their ground truth, and the COLMAP model."""
+
+    @property
+    def gt(self) -> Path:
+        return self.root / "gt"
+
+    @property
+    def gt_depth(self) -> Path:
+        return self.root / "gt_depth"
+
+    @property
+    def holes(self) -> Path:
+        return self.root / "holes"
+
+    @property
+    def sparse(self) -> Path:
+        return self.root / "sparse"
+
+    @property
+    def objects_json(self) -> Path:
+        return self.masks / "objects.json"
+
+    @property
+    def split_json(self) -> Path:
+        return self.root / "split.json"
+
+    @property
+    def scene_json(self) -> Path:
+        return self.root / "scene.json"
+
+    @property
+    def cameras_json(self) -> Path:
+        """make_scene.py's raw renders only: the cameras the generator rendered from."""
+        return self.root / "cameras.json"
+
+    @property
+    def meta_json(self) -> Path:
+        """make_scene.py's raw renders only: the generator's settings."""
+        return self.root / "meta.json"
+
+
+@dataclass(frozen=True)
+class RemovedLayout(Views):
+    """`remove`'s output: the remaining Gaussians, their renders and the removed object's region per view."""
+
+    @property
+    def point_cloud(self) -> Path:
+        return self.root / "point_cloud.ply"
+
+    @property
+    def report(self) -> Path:
+        return self.root / "removal.json"
+
+
+@dataclass(frozen=True)
+class HolesLayout(_Folder):
+    """`holes`' output: per view, the pixels no training view saw behind the removed object."""
+
+    def mask(self, view: str) -> Path:
+        """The view's hole mask, a PNG named like the view's image (255 = hole)."""
+        return self.root / view
+
+    @property
+    def sheet(self) -> Path:
+        return self.root / "sheet.png"
+
+    @property
+    def report(self) -> Path:
+        return self.root / "holes.json"
+
+
+@dataclass(frozen=True)
+class InpaintedLayout(Views):
+    """`inpaint`'s output: the removed renders (or the input images) with their holes filled."""
+
+    @property
+    def config_json(self) -> Path:
+        return self.root / "config.json"
+
+    def sheet_of(self, split: str) -> Path:
+        return self.root / f"sheet_{split}.png"
+
+
+@dataclass(frozen=True)
+class RunLayout(_Folder):
+    """A training run, and the folders each later stage adds to it."""
+
+    @property
+    def config_json(self) -> Path:
+        return self.root / "config.json"
+
+    @property
+    def checkpoints(self) -> Path:
+        return self.root / "checkpoints"
+
+    @property
+    def point_cloud(self) -> Path:
+        return self.root / "point_cloud.ply"
+
+    @property
+    def classifier(self) -> Path:
+        return self.root / "classifier.npz"
+
+    @property
+    def objects_json(self) -> Path:
+        return self.root / "objects.json"
+
+    @property
+    def metrics_json(self) -> Path:
+        return self.root / "metrics.json"
+
+    @property
+    def removed(self) -> RemovedLayout:
+        return RemovedLayout(self.root / "removed")
+
+    @property
+    def holes(self) -> HolesLayout:
+        return HolesLayout(self.root / "holes")
+
+    def inpainted(self, inpainter: str, source: str = "removed") -> InpaintedLayout:
+        """`source` "removed" fills the holes of the removed renders; "input" paints the object out of the
+        input images (the direct baseline), kept apart as direct-<inpainter>."""
+        return InpaintedLayout(self.root / "inpainted" / (inpainter if source == "removed" else f"direct-{inpainter}"))
+
+    def complete(self, method_name: str) -> CompleteLayout:
+        return CompleteLayout(self.root / "complete" / method_name)
+
+
+@dataclass(frozen=True)
+class CompleteLayout(_Folder):
+    """`complete`'s output for one method: the scene it trained on, that training run, and the scores."""
+
+    @property
+    def scene(self) -> SceneLayout:
+        return SceneLayout(self.root / "scene")
+
+    @property
+    def run(self) -> RunLayout:
+        return RunLayout(self.root / "run")
+
+    @property
+    def renders(self) -> Path:
+        return self.root / "renders"
+
+    @property
+    def scores_json(self) -> Path:
+        """Written last: a folder with scores.json is a finished completion."""
+        return self.root / "scores.json"
+
+    @property
+    def recolmap_json(self) -> Path:
+        """--recolmap: how many views COLMAP registered and their pose error (kept for a resumed run)."""
+        return self.root / "recolmap.json"
+
+
+def run_of(ply: Path) -> RunLayout | None:
+    """The run a .ply belongs to: its own folder (RUN/point_cloud.ply) or the one above it (RUN/removed/...),
+    whichever holds a classifier.npz or a config.json; None for a .ply from elsewhere."""
+    for folder in (Path(ply).parent, Path(ply).parent.parent):
+        run = RunLayout(folder)
+        if run.classifier.is_file() or run.config_json.is_file():
+            return run
+    return None

@@ -1,0 +1,127 @@
+"""The standard 3DGS .ply layout, plus Gaussian Grouping's identity as obj_dc_0..15, read and written with
+numpy alone (the engine and Blender's Python share this one reader; Blender has neither torch nor plyfile).
+
+Properties, in the order the reference code writes them:
+  x y z nx ny nz f_dc_0..2 f_rest_0..(3K-1) opacity scale_0..2 rot_0..3 [obj_dc_0..15]
+f_rest is channel-major (all K coefficients of red, then green, then blue), rot is w, x, y, z; opacity is
+a logit and scales are logs, exactly as stored in training. Ordinary splat viewers ignore obj_dc_*.
+The classifier goes beside the .ply as classifier.npz (weight (C, 16), bias (C,)), so that Blender-side
+code can group Gaussians by identity without torch. Colour from the DC term: rgb = 0.5 + SH_C0 * f_dc.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..base.errors import InputError
+
+IDENTITY_DIM = 16  # Gaussian Grouping's identity encoding
+SH_REST_COUNTS = {0: 0, 9: 1, 24: 2, 45: 3}  # number of f_rest properties -> SH degree
+# Real spherical-harmonic constants of the reference 3DGS code and gsplat, bands 0..3.
+SH_C0 = 0.28209479177387814
+SH_C1 = 0.4886025119029199
+SH_C2 = (1.0925484305920792, -1.0925484305920792, 0.31539156525252005, -1.0925484305920792, 0.5462742152960396)
+SH_C3 = (-0.5900435899266435, 2.890611442640554, -0.4570457994644658, 0.3731763325901154, -0.4570457994644658,
+         1.445305721320277, -0.5900435899266435)
+PLY_TYPES = {"float": "f4", "float32": "f4", "double": "f8", "float64": "f8", "uchar": "u1", "uint8": "u1",
+             "char": "i1", "int8": "i1", "ushort": "u2", "uint16": "u2", "short": "i2", "int16": "i2",
+             "uint": "u4", "uint32": "u4", "int": "i4", "int32": "i4"}
+REQUIRED = ("x", "y", "z", "f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1", "scale_2",
+            "rot_0", "rot_1", "rot_2", "rot_3")
+
+
+def property_names(k: int, with_identity: bool) -> list[str]:
+    """The vertex properties of a .ply with `k` higher-order SH coefficients per channel, in file order."""
+    names = ["x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2"]
+    names += [f"f_rest_{i}" for i in range(3 * k)]
+    names += ["opacity", "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3"]
+    if with_identity:
+        names += [f"obj_dc_{i}" for i in range(IDENTITY_DIM)]
+    return names
+
+
+def read_vertices(path: Path) -> np.ndarray:
+    """The vertex element of a binary little-endian 3DGS .ply as a structured array, its fields checked."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"missing Gaussian file {path}: train a scene first or pass the right path")
+    try:
+        with open(path, "rb") as f:
+            fields, count = _read_header(f, path)
+            data = np.frombuffer(f.read(count * np.dtype(fields).itemsize), dtype=fields, count=count)
+    except OSError as exc:
+        raise InputError(f"cannot read {path} ({exc.strerror}); check the path") from exc
+    except (ValueError, IndexError, TypeError) as exc:
+        if isinstance(exc, InputError):
+            raise
+        raise InputError(f"{path} is truncated or corrupt ({exc}); re-export it") from exc
+    names = set(data.dtype.names)
+    missing = [n for n in REQUIRED if n not in names]
+    n_rest = sum(1 for n in names if n.startswith("f_rest_"))
+    if missing or n_rest not in SH_REST_COUNTS:
+        lacking = ", ".join(missing) or f"a valid f_rest count ({n_rest})"
+        raise InputError(f"{path} is not a 3DGS .ply: missing {lacking}")
+    return data
+
+
+def _read_header(f, path: Path) -> tuple[list[tuple[str, str]], int]:
+    """The vertex element's (name, dtype) fields and count; the vertex element must come first."""
+    if f.readline().strip() != b"ply":
+        raise InputError(f"{path} is not a PLY file; export the splats as a 3DGS .ply")
+    fields, count, fmt, element = [], 0, "", ""
+    while (line := f.readline()) and line.strip() != b"end_header":
+        words = line.decode("ascii", "replace").split()
+        if words[:1] == ["format"] and len(words) > 1:
+            fmt = words[1]
+        elif words[:1] == ["element"] and len(words) > 2:
+            if not element and words[1] != "vertex":
+                raise InputError(f"{path}: its first element is {words[1]!r}, not vertex; is it a splat .ply?")
+            element = words[1]
+            count = int(words[2]) if element == "vertex" else count
+        elif words[:1] == ["property"] and element == "vertex":
+            if len(words) != 3 or words[1] not in PLY_TYPES:
+                raise InputError(f"{path}: vertex property {' '.join(words[1:])} is not a 3DGS field")
+            fields.append((words[2], "<" + PLY_TYPES[words[1]]))
+    if fmt != "binary_little_endian":
+        raise InputError(f"{path} is {fmt or 'not'} binary_little_endian; save it as a binary 3DGS .ply")
+    if not fields or count < 0:
+        raise InputError(f"{path} has no vertex properties; is it a Gaussian splat .ply?")
+    return fields, count
+
+
+def write_vertices(path: Path, columns: dict[str, np.ndarray]) -> None:
+    """Write float32 columns (each (N,), in file order) as a binary little-endian .ply, atomically."""
+    n = len(next(iter(columns.values())))
+    vertex = np.empty(n, dtype=[(name, "<f4") for name in columns])
+    for name, values in columns.items():
+        vertex[name] = values
+    header = ["ply", "format binary_little_endian 1.0", f"element vertex {n}"]
+    header += [f"property float {name}" for name in columns] + ["end_header"]
+    path = Path(path)
+    tmp = path.with_suffix(".ply.tmp")
+    with open(tmp, "wb") as f:
+        f.write(("\n".join(header) + "\n").encode("ascii"))
+        f.write(vertex.tobytes())
+    tmp.replace(path)
+
+
+def read_classifier(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """classifier.npz as float32 weight (C, 16) and bias (C,)."""
+    try:
+        with np.load(path) as data:
+            weight, bias = data["weight"].astype(np.float32), data["bias"].astype(np.float32)
+    except (OSError, KeyError, ValueError) as exc:
+        raise InputError(f"cannot read classifier {path} ({exc}); re-run training") from exc
+    if weight.ndim != 2 or weight.shape[1] != IDENTITY_DIM or bias.shape != (weight.shape[0],):
+        raise InputError(f"classifier {path} has weight {weight.shape} and bias {bias.shape}, not (C, "
+                         f"{IDENTITY_DIM}) and (C,); re-run training")
+    return weight, bias
+
+
+def write_classifier(path: Path, weight: np.ndarray, bias: np.ndarray) -> None:
+    path = Path(path)
+    tmp = path.with_suffix(".tmp.npz")
+    np.savez(tmp, weight=weight, bias=bias)
+    tmp.replace(path)
