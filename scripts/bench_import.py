@@ -20,26 +20,22 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 import bpy  # noqa: E402
 
+from addon.formats import layout, splat_ply  # noqa: E402
 from addon.import_scene import import_splats  # noqa: E402
 from addon.splat_ply import read_splats  # noqa: E402
 
 
 def write_ply(root: Path, n: int, groups: int) -> Path:
-    names = ["x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1",
-             "scale_2", "rot_0", "rot_1", "rot_2", "rot_3"] + [f"obj_dc_{i}" for i in range(16)]
     rng = np.random.default_rng(0)
-    data = np.zeros(n, dtype=[(name, "<f4") for name in names])
-    for name in names:
-        data[name] = rng.normal(size=n)
+    columns = {name: rng.normal(size=n) for name in splat_ply.property_names(0, with_identity=True)}
     label = rng.integers(0, groups, n)
-    for i in range(16):
-        data[f"obj_dc_{i}"] = (label == i) * 4.0
-    header = f"ply\nformat binary_little_endian 1.0\nelement vertex {n}\n"
-    header += "".join(f"property float {name}\n" for name in names) + "end_header\n"
-    (root / "point_cloud.ply").write_bytes(header.encode() + data.tobytes())
-    weight = np.eye(groups, 16, dtype=np.float32)
-    np.savez(root / "classifier.npz", weight=weight, bias=np.zeros(groups, np.float32))
-    return root / "point_cloud.ply"
+    for i in range(splat_ply.IDENTITY_DIM):
+        columns[f"obj_dc_{i}"] = (label == i) * 4.0
+    run = layout.RunLayout(root)
+    splat_ply.write_vertices(run.point_cloud, columns)
+    splat_ply.write_classifier(run.classifier, np.eye(groups, splat_ply.IDENTITY_DIM, dtype=np.float32),
+                               np.zeros(groups, np.float32))
+    return run.point_cloud
 
 
 def main() -> int:

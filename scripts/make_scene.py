@@ -31,6 +31,7 @@ from scenegen import environment, render  # noqa: E402
 from scenegen.families import FAMILIES  # noqa: E402
 
 from addon.engine_call import EngineError, run_engine  # noqa: E402
+from engine.formats.layout import RendersLayout  # noqa: E402
 
 TEST_EVERY = 10  # about 90/10 train/test, as in the paper
 
@@ -93,17 +94,18 @@ def render_scene(config: SceneConfig, staging: Path) -> None:
     names = [f"{i:04d}.png" for i in range(config.views)]
     split = split_views(names)
     objects = [{"id": obj.pass_index, "name": obj.name, "target": target} for obj, target in spec.objects]
-    (staging / "cameras.json").write_text(json.dumps(
+    renders = RendersLayout(staging)
+    renders.cameras_json.write_text(json.dumps(
         [render.colmap_record(n, p, width, height) for n, p in zip(names, poses, strict=True)], indent=1))
-    (staging / "objects.json").write_text(json.dumps(objects, indent=1))
-    (staging / "split.json").write_text(json.dumps(split, indent=1))
-    (staging / "meta.json").write_text(json.dumps(
+    renders.objects_json.write_text(json.dumps(objects, indent=1))
+    renders.split_json.write_text(json.dumps(split, indent=1))
+    renders.meta_json.write_text(json.dumps(
         {"generator": "scripts/make_scene.py", "blender": bpy.app.version_string, **asdict(config)}, indent=1))
-    render.render_views(camera, poses, names, staging / "with", "images")
+    render.render_views(camera, poses, names, renders.with_object, "images")
     spec.target.hide_render = True
     gt_names = names if config.gt == "all" else split["test"]
     gt_poses = [poses[names.index(n)] for n in gt_names]
-    render.render_views(camera, gt_poses, gt_names, staging / "without", "gt")
+    render.render_views(camera, gt_poses, gt_names, renders.without_object, "gt")
 
 
 def main(argv: list[str]) -> int:

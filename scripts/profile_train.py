@@ -19,6 +19,7 @@ import torch
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from engine.base.device import pick_device  # noqa: E402
+from engine.formats.layout import RunLayout  # noqa: E402
 from engine.io.scene import load_scene  # noqa: E402
 from engine.train.config import TrainConfig  # noqa: E402
 from engine.train.run import latest_checkpoint  # noqa: E402
@@ -31,7 +32,7 @@ def main() -> int:
     parser.add_argument("--steps", type=int, default=200)
     args = parser.parse_args()
     run = Path(args.run)
-    config = TrainConfig(**json.loads((run / "config.json").read_text()))
+    config = TrainConfig(**json.loads(RunLayout(run).config_json.read_text()))
     config.steps = 10**9  # keep schedules where the checkpoint left them
     trainer = Trainer(config, load_scene(config.scene), pick_device(config.device))
     checkpoint = latest_checkpoint(run)

@@ -22,6 +22,7 @@ import numpy as np
 
 from engine.base.errors import InputError
 from engine.formats.cameras import Camera
+from engine.formats.layout import SceneLayout
 from engine.io.colmap_model import ColmapModel, find_model_dir, read_model, write_model
 
 MIN_REGISTERED = 0.5  # below this share of training views the new model is no scene to train on
@@ -89,7 +90,7 @@ def rerun_colmap(scene_dir: Path, train_names: list[str], work: Path) -> dict:
     model_dir = find_model_dir(scene_dir)
     original = read_model(model_dir)
     by_name = {c.name: c for c in original.cameras}
-    new = reconstruct(scene_dir / "images", train_names, by_name[train_names[0]], work)
+    new = reconstruct(SceneLayout(scene_dir).images, train_names, by_name[train_names[0]], work)
     registered = [c for c in new.cameras if c.name in by_name and c.name in train_names]
     if len(registered) < max(3, MIN_REGISTERED * len(train_names)):
         raise InputError(f"COLMAP registered {len(registered)} of {len(train_names)} training images of "
@@ -105,7 +106,7 @@ def rerun_colmap(scene_dir: Path, train_names: list[str], work: Path) -> dict:
     for path in model_dir.iterdir():
         path.unlink()
     write_model(model_dir, model)
-    _write_split(scene_dir / "split.json", [n for n in train_names if n not in dropped],
+    _write_split(SceneLayout(scene_dir).split_json, [n for n in train_names if n not in dropped],
                  [c.name for c in original.cameras if c.name not in train_names])
     return {"registered": len(aligned), "training_views": len(train_names), "dropped": dropped,
             "points": len(new.points), "mean_centre_error": float(np.mean(centre_error)),

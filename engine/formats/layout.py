@@ -6,6 +6,7 @@ here reads or writes.
 
 A scene folder (made by scripts/make_scene.py, or any COLMAP capture):
     images/  gt/  masks/ (+ objects.json)  depth/  gt_depth/  holes/  sparse/0/  split.json  scene.json
+make_scene.py's raw renders, before `build-scene`: with/ without/ cameras.json split.json objects.json meta.json
 A run folder (`python -m engine train`), and what each later stage adds to it:
     config.json checkpoints/ point_cloud.ply classifier.npz objects.json metrics.json    train
     removed/   point_cloud.ply images/ depth/ masks/ removal.json sheet.png              remove
@@ -85,14 +86,37 @@ class SceneLayout(Views):
     def scene_json(self) -> Path:
         return self.root / "scene.json"
 
+
+
+@dataclass(frozen=True)
+class RendersLayout(_Folder):
+    """make_scene.py's raw renders, which `python -m engine build-scene` turns into a scene folder:
+    multi-part EXRs of every view with the target (with/) and of the ground-truth views without it
+    (without/), the cameras, the split, the objects and the generator's settings."""
+
+    @property
+    def with_object(self) -> Path:
+        return self.root / "with"
+
+    @property
+    def without_object(self) -> Path:
+        return self.root / "without"
+
     @property
     def cameras_json(self) -> Path:
-        """make_scene.py's raw renders only: the cameras the generator rendered from."""
         return self.root / "cameras.json"
 
     @property
+    def split_json(self) -> Path:
+        return self.root / "split.json"
+
+    @property
+    def objects_json(self) -> Path:
+        return self.root / "objects.json"
+
+    @property
     def meta_json(self) -> Path:
-        """make_scene.py's raw renders only: the generator's settings."""
+        """The generator's settings; the scene folder keeps them as scene.json."""
         return self.root / "meta.json"
 
 

@@ -18,6 +18,7 @@ from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
 from engine.formats.cameras import Camera, backproject, pixel_grid, project, read_cameras_json
+from engine.formats.layout import RendersLayout, SceneLayout
 from engine.io.colmap_model import ColmapModel, write_model
 from engine.io.image_io import linear_to_srgb8, read_exr_channels, write_depth, write_png
 from engine.io.visibility import DEFAULT_REL_TOL, seen_by_any, unseen_mask
@@ -63,47 +64,49 @@ def read_render(path: Path) -> RenderPass:
 
 def build_scene(renders: Path, out: Path, config: BuildConfig = BuildConfig()) -> Path:
     """Write a complete scene folder at `out` from the renders in `renders`; returns `out`."""
-    cameras = read_cameras_json(renders / "cameras.json")
-    split = json.loads((renders / "split.json").read_text())
-    objects = json.loads((renders / "objects.json").read_text())
+    source = RendersLayout(renders)
+    cameras = read_cameras_json(source.cameras_json)
+    split = json.loads(source.split_json.read_text())
+    objects = json.loads(source.objects_json.read_text())
     target_id = next(o["id"] for o in objects if o["target"])
     train = [i for i, c in enumerate(cameras) if c.name in set(split["train"])]
-    with atomic_output_dir(out) as tmp:
-        for sub in ("images", "masks", "depth", "gt", "gt_depth", "holes"):
-            (tmp / sub).mkdir()
-        views = _write_views(renders / "with", cameras, tmp, "images", "depth", keep_masks=True)
-        gt_names = sorted(p.stem for p in (renders / "without").glob("*.exr"))
+    with atomic_output_dir(out) as tmp_root:
+        tmp = SceneLayout(tmp_root)
+        for sub in (tmp.images, tmp.masks, tmp.depth, tmp.gt, tmp.gt_depth, tmp.holes):
+            sub.mkdir()
+        views = _write_views(source.with_object, cameras, tmp.images, tmp.depth, tmp.masks)
+        gt_names = sorted(p.stem for p in source.without_object.glob("*.exr"))
         gt_index = [i for i, c in enumerate(cameras) if Path(c.name).stem in gt_names]
-        gt_views = _write_views(renders / "without", [cameras[i] for i in gt_index], tmp, "gt", "gt_depth")
+        gt_views = _write_views(source.without_object, [cameras[i] for i in gt_index], tmp.gt, tmp.gt_depth)
         progress = Progress("holes", len(gt_index))
         for k, (i, gt) in enumerate(zip(gt_index, gt_views, strict=True)):
             hole = unseen_mask(cameras[i], views[i].ids == target_id, gt.depth,
                                [cameras[j] for j in train], [views[j].depth for j in train], config.rel_tol)
-            write_png(tmp / "holes" / cameras[i].name, (hole * 255).astype(np.uint8))
+            write_png(tmp.holes / cameras[i].name, (hole * 255).astype(np.uint8))
             progress.update(k + 1)
         progress.close()
         model = sample_points(cameras, views, train, config)
-        write_model(tmp / "sparse" / "0", model)
-        (tmp / "masks" / "objects.json").write_text(json.dumps(objects, indent=1))
-        (tmp / "split.json").write_text(json.dumps(split, indent=1))
-        shutil.copy(renders / "meta.json", tmp / "scene.json")
+        write_model(tmp.sparse / "0", model)
+        tmp.objects_json.write_text(json.dumps(objects, indent=1))
+        tmp.split_json.write_text(json.dumps(split, indent=1))
+        shutil.copy(source.meta_json, tmp.scene_json)
     emit("done", out=str(out))
     return out
 
 
-def _write_views(folder: Path, cameras: list[Camera], out: Path, image_dir: str, depth_dir: str,
-                 keep_masks: bool = False) -> list[RenderPass]:
+def _write_views(folder: Path, cameras: list[Camera], image_dir: Path, depth_dir: Path,
+                 mask_dir: Path | None = None) -> list[RenderPass]:
     """Convert each camera's render; returns the passes (colour dropped) for later steps."""
-    progress = Progress(image_dir, len(cameras))
+    progress = Progress(image_dir.name, len(cameras))
     passes = []
     for k, camera in enumerate(cameras):
         render = read_render(folder / f"{Path(camera.name).stem}.exr")
         if render.depth.shape != (camera.height, camera.width):
             raise InputError(f"render {folder / camera.name} does not match its camera size; re-render")
-        write_png(out / image_dir / camera.name, render.rgb)
-        write_depth(out / depth_dir / f"{Path(camera.name).stem}.exr", render.depth)
-        if keep_masks:
-            write_png(out / "masks" / camera.name, render.ids)
+        write_png(image_dir / camera.name, render.rgb)
+        write_depth(depth_dir / f"{Path(camera.name).stem}.exr", render.depth)
+        if mask_dir is not None:
+            write_png(mask_dir / camera.name, render.ids)
         passes.append(render)
         progress.update(k + 1)
     progress.close()

@@ -1,1 +1,2 @@
-"""TODO"""
+"""Rendering Gaussians: gsplat on CUDA, the pure-torch reference rasterizer on the CPU, spherical
+harmonics, and rendering a set of views into numpy pictures or a folder. May import io, formats, base."""

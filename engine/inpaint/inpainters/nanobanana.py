@@ -21,6 +21,7 @@ import numpy as np
 
 from engine.base.errors import InputError
 from engine.base.plugins import Needs
+from engine.formats.layout import SceneLayout
 from engine.inpaint.registry import Inpainter, register
 
 MODEL = "gemini-2.5-flash-image"
@@ -77,7 +78,7 @@ class NanoBanana(Inpainter):
         self.types = types
 
     def default_prompt(self, scene_root: Path) -> str:
-        meta = scene_root / "scene.json"
+        meta = SceneLayout(scene_root).scene_json
         family = json.loads(meta.read_text()).get("family") if meta.is_file() else None
         if family not in PAPER_PROMPTS:
             raise InputError(f"no paper prompt for scene {scene_root}: pass --prompt describing the object to "

@@ -1,0 +1,97 @@
+"""The shape of the code: import rules, one place for each layout, plug-ins found by the CLI and the benchmark."""
+
+from __future__ import annotations
+
+import ast
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytestmark = pytest.mark.fast
+REPO = Path(__file__).resolve().parent.parent
+
+
+def test_import_rules_hold():
+    """pyproject.toml's import-linter contracts: stages import only lower stages, the engine never imports
+    Blender, Blender-side code never imports torch and reaches the engine only through engine.formats."""
+    proc = subprocess.run([str(Path(sys.executable).parent / "lint-imports")], cwd=REPO, capture_output=True,
+                          text=True)
+    assert proc.returncode == 0, proc.stdout[-3000:]
+    assert "0 broken" in proc.stdout
+
+
+def _joined_names(path: Path) -> set[str]:
+    """The string constants joined onto a path with `/` in a source file (`root / "removed"`)."""
+    return {n.right.value for n in ast.walk(ast.parse(path.read_text())) if isinstance(n, ast.BinOp)
+            and isinstance(n.op, ast.Div) and isinstance(n.right, ast.Constant) and isinstance(n.right.value, str)}
+
+
+# the files and folders of a scene or run folder; engine/formats/layout.py alone joins them onto a path
+LAYOUT_NAMES = {"point_cloud.ply", "classifier.npz", "removal.json", "holes.json", "scores.json", "split.json",
+                "objects.json", "metrics.json", "config.json", "scene.json", "gt_depth", "inpainted", "removed",
+                "checkpoints", "sparse", "images", "depth", "masks", "gt", "holes", "renders", "complete"}
+
+
+# the same words for folders that are not ours: torch hub's weights, pycolmap's scratch reconstruction
+NOT_OURS = {("engine/base/weight_files.py", "checkpoints"), ("scripts/check_metrics.py", "checkpoints"),
+            ("engine/complete/recolmap.py", "sparse")}
+
+
+def test_only_the_layout_module_spells_run_and_scene_file_names():
+    sources = [p for folder in ("engine", "addon", "operators", "scripts") for p in (REPO / folder).rglob("*.py")]
+    offenders = {}
+    for path in sources:
+        if path == REPO / "engine" / "formats" / "layout.py":
+            continue
+        name = str(path.relative_to(REPO))
+        found = {n for n in _joined_names(path) & LAYOUT_NAMES if (name, n) not in NOT_OURS}
+        if found:
+            offenders[name] = sorted(found)
+    assert not offenders, f"ask engine.formats.layout instead: {offenders}"
+
+
+PLUGIN = '''
+from engine.complete.registry import CompletionMethod, Option, register
+
+
+@register
+class Throwaway(CompletionMethod):
+    name = "throwaway"
+    label = "Throwaway"
+    summary = "a method that exists only in this test"
+    options = (Option("throw_far", 2, "how far"),)
+    cells = {"throwaway2": {"throw_far": 2}}
+'''
+
+
+def test_a_method_in_one_new_file_reaches_the_cli_and_the_benchmark(tmp_path: Path):
+    (tmp_path / "throwaway.py").write_text(PLUGIN)
+    env = {**os.environ, "SPLATFILL_PLUGINS": str(tmp_path / "throwaway.py"), "PYTHONPATH": str(REPO)}
+    help_text = subprocess.run([sys.executable, "-m", "engine", "complete", "--help"], cwd=REPO, env=env,
+                               capture_output=True, text=True, check=True).stdout
+    assert "throwaway" in help_text and "--throw-far" in help_text
+    cells = subprocess.run([sys.executable, str(REPO / "scripts" / "benchmark.py"), "--list-methods"], cwd=REPO,
+                           env=env, capture_output=True, text=True, check=True).stdout.split()
+    assert "throwaway2" in cells and "ft3" in cells
+    plain = subprocess.run([sys.executable, "-m", "engine", "complete", "--help"], cwd=REPO, capture_output=True,
+                           text=True, check=True).stdout
+    assert "throwaway" not in plain
+
+
+def test_an_option_of_another_method_is_refused_not_ignored():
+    from engine.base.errors import InputError
+    from engine.complete.registry import get, resolve_options
+
+    assert resolve_options(get("ft"), {"refs": 0, "recolmap": False}) == {"refs": 0, "perceptual": "lpips"}
+    with pytest.raises(InputError, match="--recolmap is not an option of --method ft"):
+        resolve_options(get("ft"), {"recolmap": True})
+
+
+def test_the_readme_table_is_the_registry():
+    proc = subprocess.run([sys.executable, "-m", "engine", "plugins", "--markdown"], cwd=REPO, capture_output=True,
+                          text=True, check=True)
+    assert proc.stdout.strip() in (REPO / "README.md").read_text(), \
+        "README's plug-in table is stale: paste `python -m engine plugins --markdown` into it"
