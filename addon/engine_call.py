@@ -1,7 +1,10 @@
 """Running the engine (`python -m engine ...`) from Blender-side code, in its own Python.
 
 Blender's Python never imports torch: the engine runs as a subprocess of the environment the user
-points at (SPLATFILL_ENGINE_PYTHON, default the repo's .venv) and reports progress as JSON lines.
+points at (the preferences' engine Python, else SPLATFILL_ENGINE_PYTHON, else the repo's .venv) and
+reports progress as JSON lines. Settings and secrets the engine needs (weight paths, the Gemini key) go
+into that subprocess's own environment (`env`), never into Blender's os.environ, the arguments (which
+the process list shows) or a log.
 run_engine is the blocking form used by scripts and `blender -b`; the add-on's modal operators poll an
 EngineJob instead, so the UI never waits on the engine.
 """
@@ -26,9 +29,10 @@ class EngineError(RuntimeError):
     """The engine failed; the message is its one-line error."""
 
 
-def engine_python() -> Path:
-    """The engine environment's interpreter, or a clear error saying how to make one."""
-    configured = os.environ.get("SPLATFILL_ENGINE_PYTHON")
+def engine_python(configured: str = "") -> Path:
+    """The engine environment's interpreter (`configured`, else SPLATFILL_ENGINE_PYTHON, else the repo's
+    .venv), or a clear error saying how to make one."""
+    configured = configured or os.environ.get("SPLATFILL_ENGINE_PYTHON", "")
     default = REPO_ROOT / ".venv" / ("Scripts/python.exe" if sys.platform == "win32" else "bin/python")
     path = Path(configured) if configured else default
     if not path.is_file():
@@ -38,8 +42,9 @@ def engine_python() -> Path:
     return path
 
 
-def engine_env() -> dict[str, str]:
-    env = dict(os.environ, SPLATFILL_PROGRESS="json", PYTHONUNBUFFERED="1")
+def engine_env(extra: dict[str, str] | None = None) -> dict[str, str]:
+    """The subprocess's environment: Blender's, plus `extra` (settings and secrets for this engine only)."""
+    env = dict(os.environ, **(extra or {}), SPLATFILL_PROGRESS="json", PYTHONUNBUFFERED="1")
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO_ROOT), env.get("PYTHONPATH")]))
     return env
 
@@ -49,10 +54,10 @@ class EngineJob:
     queues its JSON lines, which the caller drains with poll() from its own thread (Blender's main thread,
     which alone may touch bpy)."""
 
-    def __init__(self, args: list[str]) -> None:
+    def __init__(self, args: list[str], python: str = "", env: dict[str, str] | None = None) -> None:
         self.errors = tempfile.TemporaryFile(mode="w+")  # a file, so a chatty stderr cannot block the pipe
-        self.proc = subprocess.Popen([str(engine_python()), "-m", "engine", *args], stdout=subprocess.PIPE,
-                                     stderr=self.errors, text=True, env=engine_env(), start_new_session=True)
+        self.proc = subprocess.Popen([str(engine_python(python)), "-m", "engine", *args], stdout=subprocess.PIPE,
+                                     stderr=self.errors, text=True, env=engine_env(env), start_new_session=True)
         self.lines: queue.Queue[dict] = queue.Queue()
         self.records: list[dict] = []
         self.reader = threading.Thread(target=self._read, daemon=True)
@@ -105,10 +110,11 @@ class EngineJob:
         return self.records
 
 
-def run_engine(args: list[str], on_progress: Callable[[dict], None] | None = None) -> list[dict]:
+def run_engine(args: list[str], on_progress: Callable[[dict], None] | None = None, python: str = "",
+               env: dict[str, str] | None = None) -> list[dict]:
     """Run `python -m engine *args` to completion (scripts, and Blender in the background, where timers
     never fire); returns its JSON records, raises EngineError on failure."""
-    job = EngineJob(args)
+    job = EngineJob(args, python, env)
     while not job.finished:
         for record in job.poll(timeout=0.1):
             if on_progress is not None:
@@ -119,11 +125,11 @@ def run_engine(args: list[str], on_progress: Callable[[dict], None] | None = Non
 _PLUGINS: dict = {}
 
 
-def engine_plugins() -> dict:
+def engine_plugins(python: str = "") -> dict:
     """The engine's inpainters and completion methods (`python -m engine plugins`): what the add-on's menus
     offer. Asked once per session; the engine's registries are the only list."""
     if not _PLUGINS:
-        record = next((r for r in run_engine(["plugins"]) if r.get("event") == "plugins"), None)
+        record = next((r for r in run_engine(["plugins"], python=python) if r.get("event") == "plugins"), None)
         if record is None:
             raise EngineError("the engine did not list its plug-ins: update the engine (make setup)")
         _PLUGINS.update(record)

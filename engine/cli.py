@@ -154,7 +154,17 @@ def _version(args: argparse.Namespace) -> None:
 
     print(f"splatfill engine {__version__}, torch {torch.__version__}, CUDA {torch.cuda.is_available()}",
           file=sys.stderr)
-    emit("version", version=__version__, torch=torch.__version__, cuda=torch.cuda.is_available())
+    emit("version", version=__version__, torch=torch.__version__, cuda=torch.cuda.is_available(),
+         keys=_keys_set())
+
+
+def _keys_set() -> list[str]:
+    """The names (never the values) of the plug-ins' secret variables that this process has."""
+    import os
+
+    from engine.inpaint.registry import classes
+
+    return sorted({key for cls in classes().values() for key in cls.needs.keys if os.environ.get(key)})
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-import os
-
 import bpy
 
 from ..addon.engine_call import EngineError, run_engine
-from ..addon.preferences import preferences
+from .engine_operator import engine_settings
 
 
 class SPLATFILL_OT_check_engine(bpy.types.Operator):
@@ -16,17 +14,16 @@ class SPLATFILL_OT_check_engine(bpy.types.Operator):
     bl_description = "Start the engine in its own Python and report its version and device"
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        prefs = preferences()
-        if prefs is not None and prefs.engine_python:
-            os.environ["SPLATFILL_ENGINE_PYTHON"] = bpy.path.abspath(prefs.engine_python)
+        settings = engine_settings()
         try:
-            records = run_engine(["version"])
+            records = run_engine(["version"], python=settings.python, env=settings.env)
         except EngineError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
         info = next((r for r in records if r.get("event") == "version"), {})
+        keys = ", ".join(info.get("keys") or []) or "none"
         self.report({"INFO"}, f"splatfill engine {info.get('version')} (torch {info.get('torch')}, "
-                              f"CUDA: {info.get('cuda')})")
+                              f"CUDA: {info.get('cuda')}; keys set: {keys})")
         return {"FINISHED"}
 
 

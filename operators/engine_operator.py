@@ -9,7 +9,7 @@ makes the import one undo step.
 
 from __future__ import annotations
 
-import os
+from dataclasses import dataclass, field
 
 import bpy
 
@@ -21,20 +21,27 @@ class UserError(Exception):
     """Something the user must fix before the engine can run (nothing selected, no run folder)."""
 
 
-def engine_settings() -> tuple[str, str]:
-    """The preferences' device, and their engine Python exported for engine_call (empty: the default)."""
+@dataclass
+class EngineSettings:
+    """What the preferences say about running the engine: its device, its Python (empty: the default) and
+    the variables for its own environment (weight paths and the Gemini key; never Blender's os.environ)."""
+
+    device: str = "auto"
+    python: str = ""
+    env: dict[str, str] = field(default_factory=dict)
+
+
+def engine_settings() -> EngineSettings:
     prefs = preferences()
     if prefs is None:  # registered without the extension system (scripts, tests): the engine picks
-        return "auto", ""
-    if prefs.engine_python:
-        os.environ["SPLATFILL_ENGINE_PYTHON"] = bpy.path.abspath(prefs.engine_python)
-    for key, value in (("LPIPS_BACKBONE", prefs.lpips_backbone), ("FID_INCEPTION", prefs.fid_weights),
-                       ("LAMA_MODEL", prefs.lama_model)):
-        if value:
-            os.environ[key] = bpy.path.abspath(value)
-    if prefs.nanobanana_key:  # handed to the engine's environment only, never stored in a .blend or a log
-        os.environ["GEMINI_API_KEY"] = prefs.nanobanana_key
-    return prefs.device, prefs.engine_python
+        return EngineSettings()
+    env = {key: bpy.path.abspath(value) for key, value in (("LPIPS_BACKBONE", prefs.lpips_backbone),
+                                                           ("FID_INCEPTION", prefs.fid_weights),
+                                                           ("LAMA_MODEL", prefs.lama_model)) if value}
+    if prefs.nanobanana_key:
+        env["GEMINI_API_KEY"] = prefs.nanobanana_key
+    python = bpy.path.abspath(prefs.engine_python) if prefs.engine_python else ""
+    return EngineSettings(prefs.device, python, env)
 
 
 class EngineOperator:
@@ -53,11 +60,11 @@ class EngineOperator:
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         try:
-            device, _ = engine_settings()
-            args = self.engine_args(context, device)
+            settings = engine_settings()
+            args = self.engine_args(context, settings.device)
             if bpy.app.background:
-                return self._done(context, run_engine(args))
-            self._job = EngineJob(args)
+                return self._done(context, run_engine(args, python=settings.python, env=settings.env))
+            self._job = EngineJob(args, settings.python, settings.env)
         except (UserError, EngineError) as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}

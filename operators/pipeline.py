@@ -19,7 +19,7 @@ import bpy
 from ..addon.engine_call import EngineError, engine_plugins
 from ..addon.formats import layout
 from ..addon.import_scene import import_cameras, import_splats
-from .engine_operator import EngineOperator, UserError, done_record
+from .engine_operator import EngineOperator, UserError, done_record, engine_settings
 
 _ITEMS: dict[str, list[tuple[str, str, str]]] = {}  # Blender needs the enum strings kept alive
 
@@ -29,7 +29,7 @@ def _plugin_items(kind: str) -> list[tuple[str, str, str]]:
     Inpaint operator's output (the removed renders' holes)."""
     if kind not in _ITEMS:
         try:
-            plugins = engine_plugins()
+            plugins = engine_plugins(engine_settings().python)
         except EngineError as exc:
             return [("", "engine unavailable", str(exc))]
         if kind == "inpainters":
@@ -221,7 +221,7 @@ class SPLATFILL_OT_complete(EngineOperator, bpy.types.Operator):
         self._collection = c = _run_collection(context, "splatfill_inpainted")
         removed = Path(c["splatfill_removed"])
         self._out = removed.parent / f"complete-{self.method}-{removed.name}-{_stamp()}"
-        method = next(m for m in engine_plugins()["methods"] if m["name"] == self.method)
+        method = next(m for m in engine_plugins(engine_settings().python)["methods"] if m["name"] == self.method)
         own = {o["name"] for o in method["options"]}  # only the chosen method's options reach the engine
         options = [arg for name in ("refs", "perceptual") if name in own
                    for arg in (f"--{name}", str(getattr(self, name)))]

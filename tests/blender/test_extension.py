@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import importlib
+import json
+import os
 import subprocess
 import sys
 import zipfile
@@ -47,3 +50,33 @@ def test_extension_installs_registers_runs_the_engine_and_unregisters(extension_
     addon_utils.disable(MODULE, default_set=True)
     assert MODULE not in bpy.context.preferences.addons
     assert not hasattr(bpy.types, "SPLATFILL_OT_check_engine")
+
+
+def test_the_gemini_key_reaches_the_engine_only_through_its_environment(extension_zip: Path, tmp_path: Path,
+                                                                         monkeypatch):
+    """The key set in the preferences reaches the engine (it says so, by name), and is in none of Blender's
+    os.environ, the engine's output stream, its error log, or a saved .blend."""
+    secret = "sk-test-0123456789-not-a-real-key"
+    monkeypatch.delenv("GEMINI_API_KEY", raising=False)
+    monkeypatch.delenv("SPLATFILL_ENGINE_PYTHON", raising=False)
+    before = dict(os.environ)
+    assert bpy.ops.extensions.package_install_files(filepath=str(extension_zip), repo="user_default",
+                                                    enable_on_install=True) == {"FINISHED"}
+    try:
+        prefs = bpy.context.preferences.addons[MODULE].preferences
+        prefs.nanobanana_key = secret
+        prefs.engine_python = str(REPO / ".venv" / "bin" / "python")
+        assert bpy.ops.splatfill.check_engine() == {"FINISHED"}
+        engine_operator = importlib.import_module(f"{MODULE}.operators.engine_operator")
+        engine_call = importlib.import_module(f"{MODULE}.addon.engine_call")
+        settings = engine_operator.engine_settings()
+        job = engine_call.EngineJob(["version"], settings.python, settings.env)
+        records = job.result()
+        assert next(r for r in records if r.get("event") == "version")["keys"] == ["GEMINI_API_KEY"]
+        assert dict(os.environ) == before, "Blender's own environment changed"
+        assert secret not in json.dumps(records)
+        blend = tmp_path / "scene.blend"
+        bpy.ops.wm.save_as_mainfile(filepath=str(blend))
+        assert secret.encode() not in blend.read_bytes()
+    finally:
+        addon_utils.disable(MODULE, default_set=True)
