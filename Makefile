@@ -18,7 +18,7 @@ BLENDER_ARGS_SEP = --
 BLENDER_ENV =
 endif
 
-.PHONY: setup demo test lint
+.PHONY: setup demo test test-fast lint
 setup: .venv/.ready .venv-blender/.ready
 
 .venv/.ready: requirements/engine.txt
@@ -57,6 +57,11 @@ demo: .venv/.ready $(BLENDER_ENV)
 test: .venv/.ready .venv-blender/.ready lint
 	$(ENGINE) -m pytest tests
 	$(BPY) -m pytest tests/blender
+
+# the quick inner loop: unit tests on tiny inputs (no generated scenes, no training runs), under 2 minutes
+test-fast: .venv/.ready .venv-blender/.ready lint
+	$(ENGINE) -m pytest -m fast tests
+	$(BPY) -m pytest -m fast tests/blender
 
 lint: .venv/.ready
 	$(ENGINE) -m ruff check .

@@ -18,6 +18,25 @@ collect_ignore = [] if importlib.util.find_spec("bpy") else ["blender"]
 TINY = ["--views", "8", "--res", "96", "--samples", "4", "--seed", "3", "--points", "3000"]
 
 
+# Two marks (README, developer section): `slow` is end to end (a generated scene, a training run, Blender
+# rendering, an installed extension), `fast` is everything else, on tiny inputs made in the test.
+# A test is slow when it asks for a scene or run fixture, or says so with @pytest.mark.slow.
+SLOW_FIXTURES = {"scenes_dir", "living_scene", "any_scene", "tiny_run"}
+
+
+def pytest_configure(config) -> None:
+    config.addinivalue_line("markers", "slow: end to end: generated scenes, training runs, Blender rendering")
+    config.addinivalue_line("markers", "fast: unit tests on tiny inputs (the whole set runs in under 2 minutes)")
+
+
+def pytest_collection_modifyitems(config, items) -> None:
+    for item in items:
+        if "slow" in item.keywords or SLOW_FIXTURES & set(getattr(item, "fixturenames", ())):
+            item.add_marker(pytest.mark.slow)
+        else:
+            item.add_marker(pytest.mark.fast)
+
+
 def blender_command(script: str, args: list[str]) -> list[str]:
     """Run a script the way the README does: through $BLENDER if set, else the bpy environment."""
     blender = os.environ.get("BLENDER")

@@ -10,7 +10,6 @@ from pathlib import Path
 
 import pytest
 
-pytestmark = pytest.mark.fast
 REPO = Path(__file__).resolve().parent.parent
 
 

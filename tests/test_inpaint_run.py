@@ -166,7 +166,7 @@ def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_
     out = tmp_path / "ft"
     report = run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainted=str(inpainted),
                                          removed=str(stages["removed"]), holes=str(stages["holes"]), out=str(out),
-                                         refs=refs, perceptual=perceptual, steps=150, device="cpu",
+                                         options={"refs": refs, "perceptual": perceptual}, steps=150, device="cpu",
                                          lpips_backbone=str(backbone), lpips_heads=str(heads)))
     assert report["method"] == {3: "FT-fsr(3)[l1]", 0: "FT-fsr(All)"}[refs]
     before = load_ply(stages["removed"] / "point_cloud.ply")
@@ -208,9 +208,50 @@ def test_recolmap_is_for_new_scenes_and_stops_cleanly_where_colmap_cannot_regist
 
     inpainted = fsr_for_ft(stages)
     common = dict(run=str(stages["run"]), inpainter="fsr", inpainted=str(inpainted), removed=str(stages["removed"]),
-                  device="cpu", recolmap=True)
-    with pytest.raises(InputError, match="--method init or direct"):
+                  device="cpu", options={"recolmap": True})
+    with pytest.raises(InputError, match="--recolmap is not an option of --method ft"):
         run_complete(CompleteConfig(method="ft", out=str(tmp_path / "ft"), **common))
     with pytest.raises(InputError, match="without --recolmap"):
         run_complete(CompleteConfig(method="init", out=str(tmp_path / "init"), **common))
     assert not (tmp_path / "init" / "scene").exists()
+
+
+def test_a_cancelled_finetune_resumes_with_complete_and_keeps_its_frozen_gaussians(stages, tmp_path):
+    """SIGTERM during `complete --method ft` checkpoints and names `complete ... --resume` (which exists);
+    `train --resume` on that run refuses (it would drop the finetune's objective and frozen Gaussians);
+    `complete --resume` finishes it with the removed scene's Gaussians unchanged bit for bit."""
+    import json
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    from engine.complete.run import CompleteConfig, run_complete
+    from engine.io.ply_io import load_ply
+
+    out = tmp_path / "ft"
+    args = ["--run", str(stages["run"]), "--method", "ft", "--inpainted", str(fsr_for_ft(stages)), "--removed",
+            str(stages["removed"]), "--holes", str(stages["holes"]), "--out", str(out), "--perceptual", "l1",
+            "--steps", "400", "--device", "cpu"]
+    env = {**os.environ, "SPLATFILL_PROGRESS": "json"}
+    proc = subprocess.Popen([sys.executable, "-m", "engine", "complete", *args], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env)
+    for line in proc.stdout:
+        if json.loads(line).get("stage") == "train" and json.loads(line).get("step", 0) > 0:
+            proc.send_signal(signal.SIGTERM)
+            break
+    stderr = proc.communicate()[1]
+    assert proc.returncode == 130, stderr
+    assert "complete" in stderr.splitlines()[-1] and "--resume" in stderr.splitlines()[-1]
+    train = subprocess.run([sys.executable, "-m", "engine", "train", "--scene", str(out / "scene"), "--out",
+                            str(out / "run"), "--resume"], capture_output=True, text=True, env=env)
+    assert train.returncode == 2 and "complete" in train.stderr and "--resume" in train.stderr
+    report = run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainted=str(fsr_for_ft(stages)),
+                                         removed=str(stages["removed"]), holes=str(stages["holes"]), out=str(out),
+                                         options={"perceptual": "l1"}, steps=400, device="cpu", resume=True))
+    assert report["method"] == "FT-fsr(3)[l1]"
+    before, after = load_ply(stages["removed"] / "point_cloud.ply"), load_ply(out / "run" / "point_cloud.ply")
+    n = len(before["means"])
+    assert len(after["means"]) > n
+    for key, value in before.items():
+        assert torch.equal(after[key][:n], value), key

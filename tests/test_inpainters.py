@@ -150,6 +150,7 @@ def tiny_diffusers(tmp_path_factory):
     return folder
 
 
+@pytest.mark.slow
 def test_diffusion_loads_a_local_diffusers_folder_and_pastes_the_unmasked_pixels_back(tiny_diffusers):
     from engine.inpaint.inpainters.diffusion import NEGATIVE, POSITIVE
 

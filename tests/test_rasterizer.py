@@ -66,6 +66,7 @@ def test_gaussians_behind_the_camera_or_off_screen_are_culled():
     assert alpha.abs().max() == 0 and (info["radii"] == 0).all()
 
 
+@pytest.mark.slow
 def test_gradients_match_finite_differences():
     specs = [(0.02, -0.01, 2.0, 0.06, 0.6, (0.9, 0.2, 0.1)), (-0.03, 0.02, 2.6, 0.08, 0.7, (0.1, 0.3, 0.8))]
     means, quats, scales, opacities, colors = gaussians(*specs)

@@ -94,6 +94,7 @@ def test_livingroom_target_hides_other_objects_from_several_views(living_scene: 
     assert (~seen).any(axis=0).sum() >= 2  # and more than one object is
 
 
+@pytest.mark.slow
 def test_same_seed_gives_the_same_scene(tmp_path: Path):
     args = ["--views", "2", "--res", "32", "--samples", "1", "--seed", "7"]
     make_scene(tmp_path / "a", "tabletop", args)
@@ -106,6 +107,7 @@ def test_same_seed_gives_the_same_scene(tmp_path: Path):
     assert not np.array_equal(a.images[0], load_scene(tmp_path / "c").images[0])
 
 
+@pytest.mark.slow
 def test_gt_test_renders_ground_truth_only_for_test_views(tmp_path: Path):
     make_scene(tmp_path / "s", "statue", ["--views", "16", "--res", "32", "--samples", "1", "--gt", "test"])
     scene = load_scene(tmp_path / "s")
@@ -133,6 +135,7 @@ def test_make_scene_refuses_bad_runs_with_one_line(tmp_path: Path, problem: str)
         assert not out.exists() and not list(tmp_path.glob(".scene*"))  # no staging left behind
 
 
+@pytest.mark.slow
 def test_hemisphere_orbit_spirals_upwards(tmp_path: Path):
     args = ["--views", "6", "--res", "32", "--samples", "1", "--points", "500", "--gt", "test"]
     make_scene(tmp_path / "hemi", "statue", args + ["--orbit", "hemisphere"])

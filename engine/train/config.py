@@ -10,6 +10,8 @@ import argparse
 import dataclasses
 from dataclasses import dataclass
 
+from engine.base.errors import InputError
+
 PRESETS: dict[str, dict] = {
     # Gaussian Grouping's schedule on gsplat's DefaultStrategy (refine every 100 from 500 to 15k, reset
     # opacity every 3k) and its losses.
@@ -73,7 +75,7 @@ class TrainConfig:
     def resolved(self) -> TrainConfig:
         """Apply the preset's values to fields the user left at their defaults."""
         if self.preset not in PRESETS:
-            raise ValueError(f"unknown preset {self.preset!r}; choose from {sorted(PRESETS)}")
+            raise InputError(f"unknown preset {self.preset!r}: choose from {', '.join(sorted(PRESETS))}")
         defaults = TrainConfig()
         changes = {k: v for k, v in PRESETS[self.preset].items() if getattr(self, k) == getattr(defaults, k)}
         return dataclasses.replace(self, **changes)

@@ -17,6 +17,7 @@ import numpy as np
 import torch
 from gsplat.strategy import DefaultStrategy
 
+from engine.base.errors import InputError
 from engine.io.gaussians import PARAM_NAMES, Gaussians, init_from_points, new_classifier
 from engine.io.scene import Scene
 from engine.metrics.image_metrics import psnr_from_mse, ssim
@@ -224,9 +225,18 @@ class Trainer:
             "generator": self.generator.get_state(), "torch_rng": torch.get_rng_state(),
             "cuda_rng": torch.cuda.get_rng_state() if self.device.type == "cuda" else None,
             "python_rng": random.getstate(), "regularizer": self.regularizer.state_dict(),
+            "frozen": self.frozen, "objective": type(self.objective).__name__,
         }
 
     def load_state_dict(self, state: dict) -> None:
+        """Continue from a checkpoint. A completion's run (its own objective, frozen Gaussians) resumes only
+        with the same plug-ins, which `complete --resume` rebuilds; the frozen count travels in the state."""
+        objective = state.get("objective", GroupingObjective.__name__)
+        if objective != type(self.objective).__name__:
+            raise InputError(f"this checkpoint was trained with {objective}, not {type(self.objective).__name__}: "
+                             "a completion's run resumes with the same `python -m engine complete` command and "
+                             "--resume")
+        self.frozen = state.get("frozen", self.frozen)
         self.step_index, self.seconds = state["step"], state["seconds"]
         self.params = self._parameters(state["params"])
         self.optimizers = {name: self._adam(name, p) for name, p in self.params.items()}

@@ -12,6 +12,7 @@ from bpy_extras.object_utils import world_to_camera_view
 from mathutils import Vector
 
 from addon.formats import cameras as camera_formats
+from addon.formats import splat_ply
 from addon.import_scene import import_cameras, import_splats
 from addon.splat_ply import read_splats
 from engine.base.errors import InputError
@@ -60,21 +61,18 @@ def test_imported_cameras_project_known_points_like_colmap(tmp_path: Path):
 
 
 def write_splat_ply(path: Path, positions: np.ndarray, identity: np.ndarray) -> None:
-    """A 3DGS .ply written here with numpy (the engine's writer needs torch): degree-0 SH and identities."""
+    """A 3DGS .ply written with the numpy writer Blender shares with the engine: degree-0 SH and identities."""
     n = len(positions)
-    names = ["x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1",
-             "scale_2", "rot_0", "rot_1", "rot_2", "rot_3"] + [f"obj_dc_{i}" for i in range(16)]
-    data = np.zeros(n, dtype=[(name, "<f4") for name in names])
+    columns = {name: np.zeros(n, np.float32) for name in splat_ply.property_names(0, with_identity=True)}
     for i, axis in enumerate("xyz"):
-        data[axis] = positions[:, i]
-    data["f_dc_0"], data["opacity"], data["rot_0"] = 1.0, 2.0, 1.0
-    data["scale_0"] = data["scale_1"] = data["scale_2"] = np.log(0.01)
-    for i in range(16):
-        data[f"obj_dc_{i}"] = identity[:, i]
-    header = f"ply\nformat binary_little_endian 1.0\nelement vertex {n}\n"
-    header += "".join(f"property float {name}\n" for name in names) + "end_header\n"
+        columns[axis] = positions[:, i]
+    columns["f_dc_0"][:], columns["opacity"][:], columns["rot_0"][:] = 1.0, 2.0, 1.0
+    for i in range(3):
+        columns[f"scale_{i}"][:] = np.log(0.01)
+    for i in range(splat_ply.IDENTITY_DIM):
+        columns[f"obj_dc_{i}"] = identity[:, i]
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_bytes(header.encode() + data.tobytes())
+    splat_ply.write_vertices(path, columns)
 
 
 def fake_run(root: Path, counts: dict[int, int]) -> Path:
