@@ -14,10 +14,11 @@ tables from every finished cell without running anything.
 Writes OUT/results.json and results.csv (one row per cell), and OUT/tables.md: per scene and averaged over
 scenes, the paper's columns (mean over seeds; best in bold), with the removed-but-unfilled scene as the
 first row; OUT/stability.md and OUT/speed_accuracy.svg and .png (scripts/benchmark_report.py); OUT/pictures/
-<scene>.png, the first seed's test views side by side (GT, then each method). Methods: init,
-direct, ft3, ftall, and init-colmap (Init on poses COLMAP re-estimates from the inpainted images, the
-paper's ablation). Run time of a method: the stages it needs (Init and FT: train + remove + holes +
-inpaint + complete; Direct: its inpainting + complete).
+<scene>.png, the first seed's test views side by side (GT, then each method). Methods: the
+benchmark cells the completion-method plug-ins declare (engine/complete/methods; `--list-methods`): init,
+init-colmap (Init on poses COLMAP re-estimates from the inpainted images, the paper's ablation), direct,
+ft3, ftall. Run time of a method: the stages it needs (Init and FT: train + remove + holes + inpaint +
+complete; methods that paint the input images, like Direct: their inpainting + complete).
 """
 
 from __future__ import annotations

@@ -127,3 +127,14 @@ def test_turntable_follows_a_blender_camera_path(run: Path, registered, tmp_path
         assert record[key] == pytest.approx(truth[key], abs=1e-3)
     assert np.allclose(record["R"], truth["R"], atol=1e-5) and np.allclose(record["t"], truth["t"], atol=1e-4)
     assert (tmp_path / "tt" / "frames" / "0000.png").is_file()
+
+
+def test_the_inpaint_and_complete_menus_list_the_engines_plugins(package, monkeypatch):
+    """The menus come from the engine's registries (`python -m engine plugins`): every inpainter that fills
+    a mask, and the completion methods that start from the Inpaint operator's output."""
+    monkeypatch.setenv("SPLATFILL_ENGINE_PYTHON", str(ENGINE_PYTHON))
+    pipeline = importlib.import_module(f"{package.__name__}.operators.pipeline")
+    inpainters = {item[0] for item in pipeline._plugin_items("inpainters")}
+    methods = {item[0] for item in pipeline._plugin_items("methods")}
+    assert {"telea", "fsr", "exemplar", "lama"} <= inpainters and "nanobanana" not in inpainters
+    assert methods == {"init", "ft"}  # direct reads `inpaint --source input`, which no operator writes
