@@ -20,8 +20,8 @@ TINY = ["--views", "8", "--res", "96", "--samples", "4", "--seed", "3", "--point
 
 # Two marks (README, developer section): `slow` is end to end (a generated scene, a training run, Blender
 # rendering, an installed extension), `fast` is everything else, on tiny inputs made in the test.
-# A test is slow when it asks for a scene or run fixture, or says so with @pytest.mark.slow.
-SLOW_FIXTURES = {"scenes_dir", "living_scene", "any_scene", "tiny_run"}
+# A test is slow when it asks for a scene, run or built-extension fixture, or says so with @pytest.mark.slow.
+SLOW_FIXTURES = {"scenes_dir", "living_scene", "any_scene", "tiny_run", "extension_zip"}
 
 
 def pytest_configure(config) -> None:

@@ -16,6 +16,7 @@ import pytest
 
 from addon.engine_call import run_engine
 
+pytestmark = pytest.mark.slow  # each runs the engine on a generated scene or a trained run
 REPO = Path(__file__).resolve().parents[2]
 ENGINE_PYTHON = REPO / ".venv" / "bin" / "python"
 
