@@ -129,7 +129,8 @@ def _job(config: CompleteConfig) -> CompletionJob:
     out = CompleteLayout(config.out) if config.out else run.complete(name)
     if config.resume:
         if not out.scene.root.is_dir() or not out.run.config_json.is_file():
-            raise InputError(f"nothing to resume in {out.root}: start it without --resume")
+            raise InputError(f"nothing to resume in {out.root} (its training never started): delete it and run "
+                             "the command without --resume")
         if out.scores_json.is_file():
             raise InputError(f"{out.root} is finished ({out.scores_json.name} exists): nothing to resume")
     else:
