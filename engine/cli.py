@@ -42,8 +42,9 @@ def _train(args: argparse.Namespace) -> None:
     from engine.train.run import train
 
     metrics = train(config_from_args(args), resume=args.resume)
-    print(f"test PSNR {metrics['psnr']:.2f} dB, SSIM {metrics['ssim']:.4f}, identity mIoU "
-          f"{metrics['identity_miou']:.3f}, {metrics['gaussians']} Gaussians, {metrics['train_seconds']:.0f} s",
+    miou = "n/a (no masks)" if metrics["identity_miou"] is None else f"{metrics['identity_miou']:.3f}"
+    print(f"test PSNR {metrics['psnr']:.2f} dB, SSIM {metrics['ssim']:.4f}, identity mIoU {miou}, "
+          f"{metrics['gaussians']} Gaussians, {metrics['train_seconds']:.0f} s",
           file=sys.stderr)
 
 

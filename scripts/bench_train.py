@@ -52,11 +52,12 @@ def run_one(scene: Path, budget: int, steps: int, results: Path, runs: Path | No
         config = TrainConfig(scene=str(scene), out=str(out), steps=steps, max_gaussians=budget)
         metrics = train(config)
         wall = time.perf_counter() - start
+    miou = metrics["identity_miou"]  # None for a scene without masks
     record = {
         "scene": scene.name, "budget": budget or None, "steps": steps, "wall_s": round(wall, 1),
         "train_s": metrics["train_seconds"], "steps_per_s": round(steps / metrics["train_seconds"], 1),
         "peak_gpu_mb": metrics["peak_gpu_mb"], "gaussians": metrics["gaussians"], "psnr": round(metrics["psnr"], 2),
-        "ssim": round(metrics["ssim"], 4), "identity_miou": round(metrics["identity_miou"], 3), **provenance(),
+        "ssim": round(metrics["ssim"], 4), "identity_miou": miou and round(miou, 3), **provenance(),
     }
     save_record(results, f"{scene.name}_{budget or 'none'}", record)
     return record

@@ -10,6 +10,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 import torch
 
@@ -159,3 +160,33 @@ def test_budget_noise_equals_gsplat_mcmc_noise():
         moved.append(params["means"].detach() - base["means"])
     assert moved[0].abs().max() > 1e-3  # the case moves something
     torch.testing.assert_close(moved[1], moved[0], rtol=1e-5, atol=2e-6)  # float32 sums in another order
+
+
+def test_a_run_records_its_scene_and_itself_as_absolute_paths(tmp_path: Path, monkeypatch):
+    """`train --scene cap` from one folder, later stages started from another (Blender, the benchmark):
+    config.json must name the scene absolutely."""
+
+    from engine.train.run import prepare_run
+
+    (tmp_path / "cap").mkdir()
+    monkeypatch.chdir(tmp_path)
+    config = prepare_run(TrainConfig(scene="cap", out="run"), resume=False)
+    saved = json.loads((tmp_path / "run" / "config.json").read_text())
+    assert saved["scene"] == config.scene == str(tmp_path / "cap")
+    assert saved["out"] == str(tmp_path / "run")
+
+
+def test_a_scene_without_masks_scores_identity_as_none_not_nan(tmp_path: Path):
+    """A capture has no masks: metrics.json gets null (JSON has no NaN), not NaN."""
+    from engine.formats.cameras import Camera
+    from engine.io.gaussians import init_from_points, new_classifier
+    from engine.io.scene import Scene
+    from engine.metrics.evaluate import evaluate_views
+
+    camera = Camera("0000.png", 16, 12, 20.0, 20.0, 8.0, 6.0, np.eye(3), np.array([0.0, 0.0, 4.0]))
+    points = np.random.default_rng(0).normal(size=(50, 3)) * 0.3
+    scene = Scene(root=tmp_path, cameras=[camera], images=[np.full((12, 16, 3), 128, np.uint8)], points=points,
+                  colors=np.full((50, 3), 128, np.uint8), train=[], test=[0])
+    metrics = evaluate_views(scene, [0], init_from_points(points, scene.colors, sh_degree=0), new_classifier(1), 0,
+                             torch.device("cpu"))
+    assert metrics["identity_miou"] is None and np.isfinite(metrics["psnr"])

@@ -1,4 +1,5 @@
-"""Evaluate a trained scene on the test views: PSNR, SSIM against images/, identity mIoU against masks/."""
+"""Evaluate a trained scene on the test views: PSNR, SSIM against images/, identity mIoU against masks/
+(None for a scene without masks, such as a user's capture: JSON has no NaN, and there is nothing to score)."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from engine.render.rasterize import CameraTensors, render
 
 @torch.no_grad()
 def evaluate_views(scene: Scene, views: list[int], gaussians: Gaussians, classifier: torch.nn.Module,
-                   sh_degree: int, device: torch.device) -> dict[str, float]:
+                   sh_degree: int, device: torch.device) -> dict[str, float | None]:
     psnrs, ssims = [], []
     num_classes = classifier.out_features
     iou = IoUCounter(num_classes)
@@ -27,4 +28,4 @@ def evaluate_views(scene: Scene, views: list[int], gaussians: Gaussians, classif
             labels = out.logits.argmax(-1)
             iou.add(labels, torch.as_tensor(scene.masks[i]).clamp(max=num_classes - 1))
     return {"psnr": sum(psnrs) / max(len(psnrs), 1), "ssim": sum(ssims) / max(len(ssims), 1),
-            "identity_miou": iou.miou() if scene.masks is not None else float("nan"), "views": len(views)}
+            "identity_miou": iou.miou() if scene.masks is not None else None, "views": len(views)}

@@ -62,7 +62,8 @@ def prepare_run(config: TrainConfig, resume: bool) -> TrainConfig:
         return TrainConfig(**json.loads(layout.config_json.read_text()))
     if run.exists() and any(run.iterdir()):
         raise InputError(f"run folder {run} already exists: pass --resume to continue it, or choose a new --out")
-    config = config.resolved()
+    # absolute: later stages start from other folders (Blender, the benchmark) and read the scene from here
+    config = dataclasses.replace(config.resolved(), scene=str(Path(config.scene).resolve()), out=str(run.resolve()))
     run.mkdir(parents=True, exist_ok=True)
     _write_json(layout.config_json, dataclasses.asdict(config))
     return config
