@@ -17,7 +17,7 @@ def _build_scene(args: argparse.Namespace) -> None:
 
 
 def _info(args: argparse.Namespace) -> None:
-    from engine.io.scene import load_scene
+    from engine.io.scene import describe_extent, load_scene
 
     scene = load_scene(args.scene)
     cam = scene.cameras[0]
@@ -27,6 +27,7 @@ def _info(args: argparse.Namespace) -> None:
         print(f"  object {obj.id}: {obj.name}{' (target)' if obj.target else ''}")
     print(f"  masks: {scene.masks is not None}, depth: {scene.depths is not None}, gt views: {len(scene.gt_images)}, "
           f"hole masks: {len(scene.holes)}")
+    print(f"  sparse points lie in {describe_extent(scene.points)} (1st to 99th percentile; --box takes this frame)")
 
 
 def _preview(args: argparse.Namespace) -> None:

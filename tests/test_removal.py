@@ -82,3 +82,13 @@ def test_a_run_folder_without_its_files_names_what_is_missing(tiny_run: Path, tm
         load_run(broken)
     config = json.loads((tiny_run / "config.json").read_text())
     assert Path(config["scene"]).is_dir()
+
+
+def test_a_box_in_another_frame_says_where_the_gaussians_are_instead_of_removing_nothing():
+    """A capture's frame has SfM's scale and axes: a box given in the generator's would remove 0 Gaussians."""
+    from engine.edit.removal import inside_box
+
+    means = np.random.default_rng(0).uniform([-1, -2, 0], [1, 2, 3], size=(1000, 3))
+    assert inside_box(means, [-0.5, -0.5, 0.5, 0.5, 0.5, 1.5]).sum() > 0
+    with pytest.raises(InputError, match=r"holds none of the 1000 Gaussians; they lie in x \[-0.9.*z \[0\.0"):
+        inside_box(means, [10, 10, 10, 11, 11, 11])

@@ -33,6 +33,7 @@ from engine.io.gaussians import Gaussians
 from engine.io.image_io import exr_name, write_depth, write_png
 from engine.io.masks import dilate
 from engine.io.ply_io import save_ply
+from engine.io.scene import describe_extent
 from engine.metrics.image_metrics import psnr
 from engine.pictures.preview import label, overlay
 from engine.render.render_views import render_pictures
@@ -61,10 +62,16 @@ def object_probability(identity: torch.Tensor, classifier: torch.nn.Linear, obje
 
 
 def inside_box(means: np.ndarray, box: list[float]) -> np.ndarray:
+    """(N,) bool: the Gaussians whose centres lie in the box; a box that holds none is an error that says
+    where the Gaussians are (a box given in another frame than the scene's would otherwise remove nothing)."""
     if len(box) != 6:
         raise InputError(f"--box needs 6 numbers x0 y0 z0 x1 y1 z1, got {len(box)}")
     lo, hi = np.minimum(box[:3], box[3:]), np.maximum(box[:3], box[3:])
-    return np.all((means >= lo) & (means <= hi), axis=1)
+    chosen = np.all((means >= lo) & (means <= hi), axis=1)
+    if not chosen.any():
+        raise InputError(f"the box {' '.join(f'{v:g}' for v in box)} holds none of the {len(means)} Gaussians; "
+                         f"they lie in {describe_extent(means)} (1st to 99th percentile): give a box in that frame")
+    return chosen
 
 
 def inside_visual_hull(means: np.ndarray, cameras: list[Camera], masks: list[np.ndarray], min_views: int = 3

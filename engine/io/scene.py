@@ -71,6 +71,15 @@ class Scene:
         raise InputError(f"no object {key!r} in {self.root}; objects present: {present}")
 
 
+def describe_extent(points: np.ndarray) -> str:
+    """Where most of `points` (N, 3) lie, per axis from the 1st to the 99th percentile, in the scene's own
+    frame: what a user needs to give a --box in a capture whose scale and axes SfM chose."""
+    if len(points) == 0:
+        return "no points"
+    lo, hi = np.percentile(points, 1, axis=0), np.percentile(points, 99, axis=0)
+    return ", ".join(f"{axis} [{a:.3g}, {b:.3g}]" for axis, a, b in zip("xyz", lo, hi, strict=True))
+
+
 def load_scene(root: Path | str) -> Scene:
     """Load a scene folder; see the module docstring for the layout."""
     root = Path(root)
