@@ -70,8 +70,8 @@ def _camera(model_dir: Path, image: colmap_files.RawImage, cameras: dict[int, co
     if cam is None:
         raise InputError(f"image {image.name} in {model_dir} uses camera {image.camera_id}, which is missing")
     if cam.model not in SUPPORTED_MODELS:
-        raise InputError(f"camera {image.camera_id} of {image.name} is {cam.model}; splatfill needs PINHOLE "
-                         "cameras: run `colmap image_undistorter` first")
+        raise InputError(f"camera {image.camera_id} of {image.name} is {cam.model}; this step needs PINHOLE "
+                         "cameras (load_scene undistorts SIMPLE_RADIAL, RADIAL and OPENCV captures first)")
     if len(cam.params) != colmap_files.PARAM_COUNTS[cam.model]:
         raise InputError(f"camera {image.camera_id} in {model_dir} has {len(cam.params)} parameters for "
                          f"{cam.model}; the model is corrupt")

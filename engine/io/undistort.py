@@ -1,0 +1,99 @@
+"""Captures with lens distortion: COLMAP's SIMPLE_RADIAL, RADIAL, OPENCV and FULL_OPENCV cameras (what
+COLMAP, pycolmap, RealityScan and most capture apps write) undistorted to PINHOLE with pycolmap.
+
+The undistorted scene is written once into a cache folder (never into the user's folder), keyed by the
+scene's absolute path and the model's and images' modification times, and reused by every later stage;
+`SPLATFILL_CACHE` moves the cache (default: $XDG_CACHE_HOME/splatfill or ~/.cache/splatfill). Fisheye
+models are refused with a clear message: undistorting them to a pinhole loses most of their field of view.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import zlib  # noqa: F401,I001  -- before pycolmap, see engine.io.colmap_model
+from pathlib import Path
+
+import cv2  # noqa: F401
+
+from engine.base.errors import InputError
+from engine.base.output_dir import atomic_output_dir
+from engine.base.progress import emit
+from engine.formats.layout import SceneLayout
+from engine.io import colmap_files
+from engine.io.colmap_model import MODEL_FILES, SUPPORTED_MODELS, find_model_dir
+
+UNDISTORTED_MODELS = ("SIMPLE_RADIAL", "RADIAL", "OPENCV", "FULL_OPENCV")
+CACHE_ENV = "SPLATFILL_CACHE"
+
+
+def camera_models(model_dir: Path) -> set[str]:
+    """The camera models a COLMAP model uses."""
+    ext = ".bin" if (model_dir / "cameras.bin").is_file() else ".txt"
+    try:
+        return {c.model for c in colmap_files.read_cameras(model_dir / f"cameras{ext}").values()}
+    except (OSError, ValueError, IndexError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot parse {model_dir / f'cameras{ext}'} ({exc}); re-export the model") from exc
+
+
+def pinhole_scene(root: Path) -> Path:
+    """The folder to load for scene `root`: `root` itself when its cameras are pinhole, else its undistorted
+    copy in the cache (made on first use)."""
+    model_dir = find_model_dir(root)
+    models = camera_models(model_dir)
+    if models <= set(SUPPORTED_MODELS):
+        return root
+    unknown = sorted(models - set(SUPPORTED_MODELS) - set(UNDISTORTED_MODELS))
+    if unknown:
+        raise InputError(f"{model_dir} has {', '.join(unknown)} cameras, which splatfill cannot undistort to a "
+                         f"pinhole; reconstruct with SIMPLE_RADIAL, RADIAL or OPENCV (or run colmap "
+                         "image_undistorter yourself)")
+    scene = SceneLayout(root)
+    aligned = [p.name for p in (scene.masks, scene.depth, scene.gt, scene.gt_depth, scene.holes) if p.is_dir()]
+    if aligned:
+        raise InputError(f"{root} has {', '.join(aligned)}/ beside distorted cameras, which would no longer line "
+                         "up after undistortion; undistort the capture with colmap image_undistorter instead")
+    cache = _cache_root() / _key(root.resolve(), model_dir)
+    if SceneLayout(cache).sparse.is_dir():
+        return cache
+    emit("undistort", scene=str(root), cache=str(cache), models=sorted(models))
+    with atomic_output_dir(cache) as tmp:
+        _undistort(model_dir, scene.images, tmp)
+        if scene.split_json.is_file():
+            shutil.copy2(scene.split_json, SceneLayout(tmp).split_json)
+        (tmp / "source.json").write_text(json.dumps({"scene": str(root.resolve()), "models": sorted(models)}))
+    return cache
+
+
+def _undistort(model_dir: Path, images: Path, out: Path) -> None:
+    import pycolmap  # after zlib and cv2 (above)
+
+    if not images.is_dir():
+        raise InputError(f"missing image folder {images}: a scene needs images/ beside sparse/")
+    try:
+        pycolmap.undistort_images(str(out), str(model_dir), str(images))
+    except Exception as exc:  # pycolmap raises plain RuntimeErrors with COLMAP's message
+        raise InputError(f"pycolmap could not undistort {images} ({exc}); check that every image in the "
+                         "model exists") from exc
+    if not (out / "sparse" / "cameras.bin").is_file():
+        raise InputError(f"pycolmap wrote no undistorted model for {model_dir}; check the images and the model")
+
+
+def _cache_root() -> Path:
+    if os.environ.get(CACHE_ENV):
+        return Path(os.environ[CACHE_ENV])
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "splatfill"
+
+
+def _key(root: Path, model_dir: Path) -> str:
+    """Changes when the scene moves or its model or image folder changes."""
+    stamps = [str(root)]
+    for path in [*(model_dir.glob(f"{stem}.*") for stem in MODEL_FILES)]:
+        stamps += [f"{p.name}:{p.stat().st_mtime_ns}:{p.stat().st_size}" for p in sorted(path)]
+    images = SceneLayout(root).images
+    if images.is_dir():
+        stamps.append(f"images:{images.stat().st_mtime_ns}")
+    return "undistorted-" + hashlib.sha1("|".join(stamps).encode()).hexdigest()[:16]
