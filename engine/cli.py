@@ -49,6 +49,15 @@ def _train(args: argparse.Namespace) -> None:
           file=sys.stderr)
 
 
+def _import_splat(args: argparse.Namespace) -> None:
+    from engine.train.config import config_from_args
+    from engine.train.imported_run import ImportConfig, import_splat
+
+    metrics = import_splat(config_from_args(args, ImportConfig))
+    print(f"imported {metrics['gaussians']} Gaussians into {args.out}; test PSNR {metrics['psnr']:.2f} dB against "
+          f"the scene's images", file=sys.stderr)
+
+
 def _remove(args: argparse.Namespace) -> None:
     from engine.edit.removal import RemovalConfig, run_removal
     from engine.train.config import config_from_args
@@ -204,6 +213,11 @@ def build_parser() -> argparse.ArgumentParser:
         p = sub.add_parser(name, help=text)
         add_config_arguments(p, cls, required=("run",))
         p.set_defaults(handler=handler)
+    from engine.train.imported_run import ImportConfig
+
+    p = sub.add_parser("import-splat", help="make a run from a .ply trained elsewhere and its COLMAP scene")
+    add_config_arguments(p, ImportConfig, required=("ply", "scene", "out"))
+    p.set_defaults(handler=_import_splat)
     from engine.complete.run import add_arguments
 
     p = sub.add_parser("complete", help="complete the scene from the inpainted views and score it")

@@ -92,3 +92,34 @@ def test_a_box_in_another_frame_says_where_the_gaussians_are_instead_of_removing
     assert inside_box(means, [-0.5, -0.5, 0.5, 0.5, 0.5, 1.5]).sum() > 0
     with pytest.raises(InputError, match=r"holds none of the 1000 Gaussians; they lie in x \[-0.9.*z \[0\.0"):
         inside_box(means, [10, 10, 10, 11, 11, 11])
+
+
+def test_a_splat_trained_elsewhere_becomes_a_run_that_later_stages_use(tiny_run: Path, tmp_path: Path):
+    """A standard .ply without identity fields (another trainer's) plus its COLMAP scene: a run without
+    retraining, which loads, removes by box, and reports the splat's fit to the images; a .ply in another
+    frame is refused with the reason instead of giving a run that renders nothing like the scene."""
+    from engine.io.ply_io import save_ply
+    from engine.train.imported_run import ImportConfig, import_splat
+
+    trained = load_run(tiny_run)
+    plain = {k: v for k, v in trained.gaussians.items() if k != "identity"}
+    save_ply(tmp_path / "elsewhere.ply", plain)
+    scene = json.loads((tiny_run / "config.json").read_text())["scene"]
+    metrics = import_splat(ImportConfig(ply=str(tmp_path / "elsewhere.ply"), scene=scene, out=str(tmp_path / "run"),
+                                        device="cpu"))
+    own = json.loads((tiny_run / "metrics.json").read_text())["psnr"]
+    assert abs(metrics["psnr"] - own) < 0.05 and metrics["identity_miou"] is None  # the same splat, the same fit
+    run = load_run(tmp_path / "run")
+    assert len(run.gaussians["means"]) == len(plain["means"]) and run.sh_degree == trained.config.sh_degree
+    assert torch.equal(run.gaussians["means"], plain["means"]) and not run.gaussians["identity"].any()
+    means = run.gaussians["means"].numpy()
+    lo, hi = np.percentile(means, 40, axis=0), np.percentile(means, 60, axis=0)
+    report = run_removal(RemovalConfig(run=str(tmp_path / "run"), box=[*lo, *hi], out=str(tmp_path / "box"),
+                                       device="cpu"))
+    assert report["removed"] > 0
+    moved = dict(plain, means=plain["means"] + 10.0)
+    save_ply(tmp_path / "moved.ply", moved)
+    with pytest.raises(InputError, match="do not share a frame"):
+        import_splat(ImportConfig(ply=str(tmp_path / "moved.ply"), scene=scene, out=str(tmp_path / "run2"),
+                                  device="cpu"))
+    assert not (tmp_path / "run2").exists()
