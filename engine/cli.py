@@ -19,7 +19,7 @@ def _build_scene(args: argparse.Namespace) -> None:
 def _info(args: argparse.Namespace) -> None:
     from engine.io.scene import describe_extent, load_scene
 
-    scene = load_scene(args.scene)
+    scene = load_scene(args.scene, args.resolution)
     cam = scene.cameras[0]
     print(f"{scene.root}: {len(scene.cameras)} views ({len(scene.train)} train, {len(scene.test)} test), "
           f"{cam.width}x{cam.height}, {len(scene.points)} points")
@@ -34,7 +34,7 @@ def _preview(args: argparse.Namespace) -> None:
     from engine.io.scene import load_scene
     from engine.pictures.preview import write_scene_preview
 
-    path = write_scene_preview(load_scene(args.scene), Path(args.out), rows=args.rows)
+    path = write_scene_preview(load_scene(args.scene, args.resolution), Path(args.out), rows=args.rows)
     print(f"wrote {path}")
 
 
@@ -189,11 +189,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(handler=_build_scene)
     p = sub.add_parser("info", help="load a scene folder and summarise it")
     p.add_argument("--scene", required=True)
+    p.add_argument("--resolution", type=int, default=1, help="load at 1/N of the size (1, 2, 4, 8)")
     p.set_defaults(handler=_info)
     p = sub.add_parser("preview", help="contact sheet of image / gt / mask / depth / hole per view")
     p.add_argument("--scene", required=True)
     p.add_argument("--out", required=True, help="PNG file to write")
     p.add_argument("--rows", type=int, default=3, help="number of views shown")
+    p.add_argument("--resolution", type=int, default=1, help="load at 1/N of the size (1, 2, 4, 8)")
     p.set_defaults(handler=_preview)
     p = sub.add_parser("train", help="train Gaussians with identities (Gaussian Grouping on gsplat)")
     from engine.train.config import add_config_arguments

@@ -101,7 +101,7 @@ def run_complete(config: CompleteConfig) -> dict:
             out.recolmap_json.write_text(json.dumps(colmap, indent=1))
     colmap = json.loads(out.recolmap_json.read_text()) if out.recolmap_json.is_file() else None
     settings = dataclasses.replace(original.config, scene=str(out.scene.root), out=str(out.run.root),
-                                   seed=config.seed, device=config.device,
+                                   seed=config.seed, device=config.device, resolution=1,  # scene: at run's size
                                    steps=config.steps or original.config.steps)
     settings, plugins = job.method.setup(job, settings)
     try:

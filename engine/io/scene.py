@@ -25,6 +25,7 @@ from engine.base.errors import InputError
 from engine.formats.cameras import Camera
 from engine.formats.layout import SceneLayout
 from engine.io.colmap_model import find_model_dir, read_model
+from engine.io.downscale import downscaled_scene
 from engine.io.image_io import exr_name, read_depth, read_png
 from engine.io.undistort import pinhole_scene
 
@@ -82,12 +83,14 @@ def describe_extent(points: np.ndarray) -> str:
     return ", ".join(f"{axis} [{a:.3g}, {b:.3g}]" for axis, a, b in zip("xyz", lo, hi, strict=True))
 
 
-def load_scene(root: Path | str) -> Scene:
-    """Load a scene folder; see the module docstring for the layout."""
+def load_scene(root: Path | str, resolution: int = 1) -> Scene:
+    """Load a scene folder; see the module docstring for the layout. `resolution` > 1 loads it at
+    1/resolution of its size (engine.io.downscale), as 3DGS's -r."""
     root = Path(root)
     if not root.is_dir():
         raise InputError(f"scene folder {root} does not exist: pass a folder made by make_scene.py or COLMAP")
     root = pinhole_scene(root)  # a capture with lens distortion: its undistorted copy (engine.io.undistort)
+    root = downscaled_scene(root, resolution)
     layout = SceneLayout(root)
     model = read_model(find_model_dir(root))
     names = [c.name for c in model.cameras]

@@ -1,17 +1,14 @@
 """Captures with lens distortion: COLMAP's SIMPLE_RADIAL, RADIAL, OPENCV and FULL_OPENCV cameras (what
 COLMAP, pycolmap, RealityScan and most capture apps write) undistorted to PINHOLE with pycolmap.
 
-The undistorted scene is written once into a cache folder (never into the user's folder), keyed by the
-scene's absolute path and the model's and images' modification times, and reused by every later stage;
-`SPLATFILL_CACHE` moves the cache (default: $XDG_CACHE_HOME/splatfill or ~/.cache/splatfill). Fisheye
+The undistorted scene is written once into the scene cache (engine.io.scene_cache, never into the user's
+folder) and reused by every later stage. Fisheye
 models are refused with a clear message: undistorting them to a pinhole loses most of their field of view.
 """
 
 from __future__ import annotations
 
-import hashlib
 import json
-import os
 import shutil
 import zlib  # noqa: F401,I001  -- before pycolmap, see engine.io.colmap_model
 from pathlib import Path
@@ -19,14 +16,12 @@ from pathlib import Path
 import cv2  # noqa: F401
 
 from engine.base.errors import InputError
-from engine.base.output_dir import atomic_output_dir
-from engine.base.progress import emit
 from engine.formats.layout import SceneLayout
 from engine.io import colmap_files
-from engine.io.colmap_model import MODEL_FILES, SUPPORTED_MODELS, find_model_dir
+from engine.io.colmap_model import SUPPORTED_MODELS, find_model_dir
+from engine.io.scene_cache import cached_scene
 
 UNDISTORTED_MODELS = ("SIMPLE_RADIAL", "RADIAL", "OPENCV", "FULL_OPENCV")
-CACHE_ENV = "SPLATFILL_CACHE"
 
 
 def camera_models(model_dir: Path) -> set[str]:
@@ -55,16 +50,14 @@ def pinhole_scene(root: Path) -> Path:
     if aligned:
         raise InputError(f"{root} has {', '.join(aligned)}/ beside distorted cameras, which would no longer line "
                          "up after undistortion; undistort the capture with colmap image_undistorter instead")
-    cache = _cache_root() / _key(root.resolve(), model_dir)
-    if SceneLayout(cache).sparse.is_dir():
-        return cache
-    emit("undistort", scene=str(root), cache=str(cache), models=sorted(models))
-    with atomic_output_dir(cache) as tmp:
+
+    def build(tmp: Path) -> None:
         _undistort(model_dir, scene.images, tmp)
         if scene.split_json.is_file():
             shutil.copy2(scene.split_json, SceneLayout(tmp).split_json)
         (tmp / "source.json").write_text(json.dumps({"scene": str(root.resolve()), "models": sorted(models)}))
-    return cache
+
+    return cached_scene(root, "undistorted", build)
 
 
 def _undistort(model_dir: Path, images: Path, out: Path) -> None:
@@ -79,21 +72,3 @@ def _undistort(model_dir: Path, images: Path, out: Path) -> None:
                          "model exists") from exc
     if not (out / "sparse" / "cameras.bin").is_file():
         raise InputError(f"pycolmap wrote no undistorted model for {model_dir}; check the images and the model")
-
-
-def _cache_root() -> Path:
-    if os.environ.get(CACHE_ENV):
-        return Path(os.environ[CACHE_ENV])
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "splatfill"
-
-
-def _key(root: Path, model_dir: Path) -> str:
-    """Changes when the scene moves or its model or image folder changes."""
-    stamps = [str(root)]
-    for path in [*(model_dir.glob(f"{stem}.*") for stem in MODEL_FILES)]:
-        stamps += [f"{p.name}:{p.stat().st_mtime_ns}:{p.stat().st_size}" for p in sorted(path)]
-    images = SceneLayout(root).images
-    if images.is_dir():
-        stamps.append(f"images:{images.stat().st_mtime_ns}")
-    return "undistorted-" + hashlib.sha1("|".join(stamps).encode()).hexdigest()[:16]

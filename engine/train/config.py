@@ -31,6 +31,7 @@ class TrainConfig:
     seed: int = 0
     device: str = "auto"  # auto | cuda | cpu
     max_gaussians: int = 0  # 0 = no budget (gsplat DefaultStrategy); N = MCMCStrategy capped at N
+    resolution: int = 1  # load the scene at 1/resolution of its size (1, 2, 4, 8), as 3DGS's -r
     sh_degree: int = 3
     sh_degree_interval: int = 1000  # one more SH band every this many steps
     init_opacity: float = 0.1

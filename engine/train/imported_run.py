@@ -35,16 +35,18 @@ class ImportConfig:
     ply: str = ""  # a standard 3DGS .ply
     scene: str = ""  # the COLMAP scene folder it was trained on (images/, sparse/0/)
     out: str = ""  # the new run folder
+    resolution: int = 1  # the resolution the splat is checked at (1, 2, 4, 8), kept for later stages
     device: str = "auto"
 
 
 def import_splat(config: ImportConfig) -> dict:
     gaussians = load_ply(Path(config.ply))
     scene_dir = Path(config.scene).resolve()
-    scene = load_scene(scene_dir)
+    scene = load_scene(scene_dir, config.resolution)
     degree = SH_REST_COUNTS[3 * gaussians["shN"].shape[1]]
     out = Path(config.out).resolve()
-    settings = TrainConfig(scene=str(scene_dir), out=str(out), sh_degree=degree, device=config.device)
+    settings = TrainConfig(scene=str(scene_dir), out=str(out), sh_degree=degree, device=config.device,
+                           resolution=config.resolution)
     classifier = new_classifier(1)  # every Gaussian background until objects are found
     views = scene.test or scene.train
     metrics = evaluate_views(scene, views, gaussians, classifier, degree, pick_device(config.device))

@@ -74,7 +74,7 @@ def train(config: TrainConfig, resume: bool = False, plugins: dict | None = None
     Trainer's completion plug-ins (start, frozen, objective, views, classifier); a resumed run needs the same ones."""
     config = prepare_run(config, resume)
     run = Path(config.out)
-    scene = load_scene(config.scene)
+    scene = load_scene(config.scene, config.resolution)
     if not scene.train:
         raise InputError(f"{config.scene} has no training views: check split.json")
     device = pick_device(config.device)

@@ -54,14 +54,15 @@ def _read_run(root: Path, scene: Path | str | None) -> tuple[TrainConfig, int, P
 
 def load_run_scene(root: Path | str) -> Scene:
     """Only the scene of run folder `root`, for stages that read its files but not its Gaussians."""
-    return load_scene(_read_run(Path(root), None)[2])
+    config, _, scene_dir = _read_run(Path(root), None)
+    return load_scene(scene_dir, config.resolution)
 
 
 def load_run(root: Path | str, scene: Path | str | None = None) -> TrainedRun:
     """Load run folder `root`; `scene` overrides the scene folder recorded in its config.json."""
     root = Path(root)
     config, steps, scene_dir = _read_run(root, scene)
-    return TrainedRun(root=root, config=config, scene=load_scene(scene_dir),
+    return TrainedRun(root=root, config=config, scene=load_scene(scene_dir, config.resolution),
                       gaussians=load_ply(RunLayout(root).point_cloud),
                       classifier=load_classifier(RunLayout(root).classifier),
                       sh_degree=config.sh_degree_at(steps))

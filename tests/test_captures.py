@@ -1,4 +1,4 @@
-"""Captures with lens distortion load as undistorted PINHOLE scenes, through pycolmap, into a cache."""
+"""A user's capture: lens distortion undistorted, large images downscaled, both into a cache, never into it."""
 
 from __future__ import annotations
 
@@ -76,3 +76,30 @@ def test_fisheye_and_aligned_folders_are_refused_with_the_fix(tmp_path: Path, mo
     (masked / "masks").mkdir()
     with pytest.raises(InputError, match="masks/ beside distorted cameras"):
         load_scene(masked)
+
+
+def test_resolution_loads_the_scene_at_a_fraction_with_consistent_cameras(tmp_path: Path, monkeypatch):
+    """As 3DGS's -r 2: half the pixels, intrinsics scaled with them, masks resized without blending ids."""
+    from engine.formats.cameras import project
+
+    monkeypatch.setenv("SPLATFILL_CACHE", str(tmp_path / "cache"))
+    root = tmp_path / "capture"
+    write_capture(root, "PINHOLE", f"{F} {F} {CX} {CY}", radial_image(0.0))
+    (root / "masks").mkdir()
+    ids = np.zeros((H, W), np.uint8)
+    ids[10:40, 20:60] = 3
+    for k in range(3):
+        cv2.imwrite(str(root / "masks" / f"{k:04d}.png"), ids)
+    full, half = load_scene(root), load_scene(root, resolution=2)
+    assert half.root.parent == tmp_path / "cache" and not (root / "sparse" / "0" / "cameras.bin").exists()
+    cam = half.cameras[0]
+    assert (cam.width, cam.height) == (W // 2, H // 2) and half.images[0].shape == (H // 2, W // 2, 3)
+    point = np.array([[0.3, -0.2, 5.0]])
+    u, v, _ = project(full.cameras[0], point)
+    u2, v2, _ = project(cam, point)
+    assert np.allclose([u2[0], v2[0]], [u[0] / 2, v[0] / 2])
+    assert set(np.unique(half.masks[0])) == {0, 3} and (half.masks[0] == 3).sum() == (ids == 3).sum() // 4
+    expected = cv2.resize(full.images[0], (W // 2, H // 2), interpolation=cv2.INTER_AREA)
+    assert np.array_equal(half.images[0], expected)
+    with pytest.raises(InputError, match="--resolution 3 unknown"):
+        load_scene(root, resolution=3)
