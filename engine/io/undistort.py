@@ -70,5 +70,5 @@ def _undistort(model_dir: Path, images: Path, out: Path) -> None:
     except Exception as exc:  # pycolmap raises plain RuntimeErrors with COLMAP's message
         raise InputError(f"pycolmap could not undistort {images} ({exc}); check that every image in the "
                          "model exists") from exc
-    if not (out / "sparse" / "cameras.bin").is_file():
+    if not (SceneLayout(out).sparse / "cameras.bin").is_file():  # pycolmap writes the scene layout
         raise InputError(f"pycolmap wrote no undistorted model for {model_dir}; check the images and the model")
