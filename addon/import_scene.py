@@ -17,30 +17,76 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
+from .formats import InputError, colmap_files
 from .formats import cameras as camera_formats
-from .splat_ply import Splats, read_splats
+from .splat_ply import Splats, read_splats, scene_of
 
 NODE_GROUP = "splatfill proxy"
 MATERIAL = "splatfill splat"
+UPRIGHT_TOLERANCE_DEG = 1.0  # a scene tilted less than this is shown as it is
 PROXY_SIGMAS = 2.0  # instance radius in standard deviations: a 2-sigma ellipsoid holds most of a Gaussian
 
 
-def import_cameras(cameras_json: Path, collection: bpy.types.Collection) -> list[bpy.types.Object]:
+def upright_frame(scene_root: Path | None, collection: bpy.types.Collection) -> bpy.types.Object | None:
+    """An empty that stands the scene upright (its cameras' mean up turned to +Z, engine.formats.cameras):
+    what is imported becomes its child, so an object's own coordinates stay the engine's (selections and
+    boxes read there) while the viewport shows the capture the right way up. None without a scene, or for
+    one upright already."""
+    if scene_root is None:
+        return None
+    try:
+        rotation = camera_formats.upright_rotation(colmap_files.world_to_camera_rotations(scene_root))
+    except InputError:
+        return None
+    if np.degrees(np.arccos(np.clip((np.trace(rotation) - 1) / 2, -1, 1))) < UPRIGHT_TOLERANCE_DEG:
+        return None  # upright already (our generated scenes): nothing to add
+    frame = bpy.data.objects.new(f"{collection.name} frame", None)
+    frame.empty_display_type = "ARROWS"
+    matrix = np.eye(4)
+    matrix[:3, :3] = rotation
+    frame.matrix_world = Matrix(matrix.tolist())
+    frame["splatfill_frame"] = str(scene_root)
+    collection.objects.link(frame)
+    return frame
+
+
+def engine_matrix(obj: bpy.types.Object) -> np.ndarray:
+    """(4, 4) `obj`'s matrix in the engine's world, undoing the upright frame it may be parented to."""
+    matrix = obj.matrix_world
+    if obj.parent is not None and "splatfill_frame" in obj.parent:
+        matrix = obj.parent.matrix_world.inverted() @ matrix
+    return np.array(matrix)
+
+
+def _link(obj: bpy.types.Object, collection: bpy.types.Collection, frame: bpy.types.Object | None,
+          matrix: Matrix | None = None) -> None:
+    """Link `obj`, placed at `matrix` (engine world), under `frame` when there is one."""
+    collection.objects.link(obj)
+    matrix = matrix if matrix is not None else Matrix.Identity(4)
+    if frame is not None:
+        obj.parent = frame
+        matrix = frame.matrix_world @ matrix  # the object's own (basis) matrix stays in the engine's world
+    obj.matrix_world = matrix
+
+
+def import_cameras(cameras_json: Path, collection: bpy.types.Collection, scene_root: Path | None = None
+                   ) -> list[bpy.types.Object]:
     """One Blender camera per camera of a cameras.json (engine.formats.cameras); the scene takes the first one's
-    resolution and pixel aspect (they are per scene in Blender), each camera keeps its own as properties."""
+    resolution and pixel aspect (they are per scene in Blender), each camera keeps its own as properties.
+    With the scene's folder, they stand in its upright frame."""
     objects = []
     scene = bpy.context.scene
+    frame = upright_frame(scene_root, collection)
     for k, c in enumerate(camera_formats.read_cameras_json(cameras_json)):
         settings = camera_formats.blender_settings(c.fx, c.fy, c.cx, c.cy, c.width, c.height)
         data = bpy.data.cameras.new(Path(c.name).stem)
         for key in ("sensor_fit", "sensor_width", "sensor_height", "lens", "shift_x", "shift_y"):
             setattr(data, key, settings[key])
         obj = bpy.data.objects.new(Path(c.name).stem, data)
-        obj.matrix_world = Matrix(camera_formats.camera_to_world(c.R, c.t).tolist())
         obj["splatfill_image"] = c.name
         obj["splatfill_resolution"] = list(settings["resolution"])
         obj["splatfill_pixel_aspect"] = list(settings["pixel_aspect"])
-        collection.objects.link(obj)
+        _link(obj, collection, frame, Matrix(camera_formats.camera_to_world(c.R, c.t).tolist()))
         if k == 0:
             scene.render.resolution_x, scene.render.resolution_y = settings["resolution"]
             scene.render.resolution_percentage = 100
@@ -51,8 +97,10 @@ def import_cameras(cameras_json: Path, collection: bpy.types.Collection) -> list
 
 
 def import_splats(path: Path, collection: bpy.types.Collection) -> list[bpy.types.Object]:
-    """One proxy object per identity group of the .ply at `path`, linked into `collection`."""
+    """One proxy object per identity group of the .ply at `path`, linked into `collection`, upright when the
+    .ply belongs to a run whose scene is known."""
     splats = read_splats(Path(path))
+    frame = upright_frame(scene_of(Path(path)), collection)
     group_tree, material = proxy_node_group(), splat_material()
     order = np.argsort(splats.groups, kind="stable")
     ids, starts = np.unique(splats.groups[order], return_index=True)
@@ -66,7 +114,7 @@ def import_splats(path: Path, collection: bpy.types.Collection) -> list[bpy.type
         modifier = obj.modifiers.new("splatfill proxy", "NODES")
         modifier.node_group = group_tree
         obj.data.materials.append(material)
-        collection.objects.link(obj)
+        _link(obj, collection, frame)
         objects.append(obj)
     collection["splatfill_ply"] = str(path)
     return objects

@@ -49,6 +49,16 @@ def read_splats(path: Path) -> Splats:
                   groups=groups, names=names)
 
 
+def scene_of(ply: Path) -> Path | None:
+    """The scene folder of the run a .ply belongs to (its config.json names it), if both are there."""
+    run = layout.run_of(ply)
+    try:
+        scene = Path(json.loads(run.config_json.read_text())["scene"]) if run and run.config_json.is_file() else None
+    except (OSError, ValueError, KeyError):
+        return None
+    return scene if scene is not None and scene.is_dir() else None
+
+
 def _object_names(run: layout.RunLayout, classes: int) -> dict[int, str]:
     """Names from the training scene's masks/objects.json (the run's config.json names the scene)."""
     names = {i: f"object_{i}" for i in range(classes)}

@@ -118,7 +118,8 @@ def _chart(args: argparse.Namespace) -> None:
 def _cameras(args: argparse.Namespace) -> None:
     from engine.base.progress import emit
     from engine.formats.cameras import write_cameras_json
-    from engine.io.colmap_model import find_model_dir, read_model
+    from engine.formats.colmap_files import find_model_dir
+    from engine.io.colmap_model import read_model
 
     scene = Path(args.scene)
     path = write_cameras_json(read_model(find_model_dir(scene)).cameras, Path(args.out))

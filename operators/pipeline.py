@@ -96,7 +96,8 @@ class SPLATFILL_OT_import_colmap(EngineOperator, bpy.types.Operator):
 
     def finish(self, context, records):
         scene = Path(bpy.path.abspath(self.directory))
-        cameras = import_cameras(self._json, _new_collection(f"{scene.name} cameras", splatfill_scene=str(scene)))
+        cameras = import_cameras(self._json, _new_collection(f"{scene.name} cameras", splatfill_scene=str(scene)),
+                                 scene)
         return f"imported {len(cameras)} cameras from {scene}"
 
 

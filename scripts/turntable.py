@@ -74,8 +74,11 @@ def orbit(records: list[dict], centre: np.ndarray, frames: int) -> list[dict]:
 
 
 def blender_path(camera_name: str) -> list[dict]:
-    """A Blender camera's path over the scene's frame range, as cameras.json records."""
+    """A Blender camera's path over the scene's frame range, as cameras.json records in the engine's world
+    (an imported camera's upright frame undone)."""
     import bpy
+
+    from addon.import_scene import engine_matrix
 
     scene = bpy.context.scene
     camera = bpy.data.objects.get(camera_name)
@@ -88,7 +91,7 @@ def blender_path(camera_name: str) -> list[dict]:
         scene.frame_set(frame)
         d = camera.data
         aspect = (scene.render.pixel_aspect_x, scene.render.pixel_aspect_y)
-        records.append(camera_formats.colmap_record(f"{k:04d}.png", np.array(camera.matrix_world), d.lens,
+        records.append(camera_formats.colmap_record(f"{k:04d}.png", engine_matrix(camera), d.lens,
                                                     d.sensor_width, d.sensor_height, d.sensor_fit, d.shift_x,
                                                     d.shift_y, width, height, aspect))
     return records

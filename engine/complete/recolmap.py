@@ -22,8 +22,9 @@ import numpy as np
 
 from engine.base.errors import InputError
 from engine.formats.cameras import Camera
+from engine.formats.colmap_files import find_model_dir
 from engine.formats.layout import SceneLayout
-from engine.io.colmap_model import ColmapModel, find_model_dir, read_model, write_model
+from engine.io.colmap_model import ColmapModel, read_model, write_model
 
 MIN_REGISTERED = 0.5  # below this share of training views the new model is no scene to train on
 

@@ -111,6 +111,24 @@ def _pixel_index(x: np.ndarray) -> np.ndarray:
     return np.floor(np.clip(x, -1.0, 1e9)).astype(np.int64)
 
 
+def upright_rotation(rotations: np.ndarray) -> np.ndarray:
+    """(3, 3) the rotation that turns the cameras' mean up direction into +Z, Blender's up, by the shortest
+    arc. `rotations` (K, 3, 3) are world-to-camera; a camera's up is its -y axis (OpenCV), which is -R[1] in
+    the world. SfM picks its own axes (a capture often comes in tilted by tens of degrees); a generated
+    scene's cameras are upright already and give (nearly) the identity."""
+    up = -np.asarray(rotations)[:, 1, :].mean(axis=0)
+    norm = np.linalg.norm(up)
+    if len(rotations) == 0 or norm < 1e-9:
+        return np.eye(3)
+    up /= norm
+    z = np.array([0.0, 0.0, 1.0])
+    axis, cos = np.cross(up, z), float(up @ z)
+    if np.linalg.norm(axis) < 1e-12:
+        return np.eye(3) if cos > 0 else np.diag([1.0, -1.0, -1.0])
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + k + k @ k / (1.0 + cos)  # Rodrigues with the unnormalised axis (|axis| = sin)
+
+
 def camera_record(camera: Camera) -> dict:
     return {"name": camera.name, "width": camera.width, "height": camera.height, "fx": camera.fx, "fy": camera.fy,
             "cx": camera.cx, "cy": camera.cy, "R": np.asarray(camera.R).tolist(), "t": np.asarray(camera.t).tolist()}

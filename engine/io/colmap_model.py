@@ -1,4 +1,4 @@
-"""COLMAP models: read with numpy (engine.io.colmap_files), written through pycolmap.
+"""COLMAP models: read with numpy (engine.formats.colmap_files), written through pycolmap.
 
 This is the one module that imports pycolmap, and only inside write_model: pycolmap 4.2.1 breaks zlib
 when it is imported first (the next PNG write aborts the process), so zlib and cv2 are loaded before it.
@@ -14,9 +14,8 @@ import cv2  # noqa: F401
 import numpy as np
 
 from engine.base.errors import InputError
+from engine.formats import colmap_files
 from engine.formats.cameras import Camera
-from engine.formats.layout import SceneLayout
-from engine.io import colmap_files
 
 SUPPORTED_MODELS = ("PINHOLE", "SIMPLE_PINHOLE")
 MODEL_FILES = ("cameras", "images", "points3D")
@@ -31,18 +30,6 @@ class ColmapModel:
     colors: np.ndarray  # (N, 3) uint8 RGB
     observations: list[list[tuple[int, float, float]]] = field(default_factory=list)
     """Per point, the (camera index, u, v) where it was seen; only used when writing."""
-
-
-def find_model_dir(scene_root: Path) -> Path:
-    """The folder holding the model: `sparse/0/` (COLMAP's layout) or `sparse/`."""
-    sparse = SceneLayout(scene_root).sparse
-    for candidate in (sparse / "0", sparse):
-        if any((candidate / f"cameras{ext}").is_file() for ext in (".bin", ".txt")):
-            return candidate
-    raise InputError(
-        f"no COLMAP model in {sparse}: expected sparse/0/cameras.bin (or .txt); "
-        "run COLMAP (and image_undistorter) on the images first"
-    )
 
 
 def read_model(model_dir: Path) -> ColmapModel:

@@ -15,8 +15,9 @@ import numpy as np
 
 from engine.base.errors import InputError
 from engine.formats.cameras import Camera
+from engine.formats.colmap_files import find_model_dir
 from engine.formats.layout import SceneLayout
-from engine.io.colmap_model import find_model_dir, read_model, write_model
+from engine.io.colmap_model import read_model, write_model
 from engine.io.image_io import exr_name, read_depth, read_png, write_depth, write_png
 from engine.io.scene_cache import cached_scene
 

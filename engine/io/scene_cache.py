@@ -12,8 +12,9 @@ from pathlib import Path
 
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import emit
+from engine.formats.colmap_files import find_model_dir
 from engine.formats.layout import SceneLayout
-from engine.io.colmap_model import MODEL_FILES, find_model_dir
+from engine.io.colmap_model import MODEL_FILES
 
 CACHE_ENV = "SPLATFILL_CACHE"
 

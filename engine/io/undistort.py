@@ -16,9 +16,10 @@ from pathlib import Path
 import cv2  # noqa: F401
 
 from engine.base.errors import InputError
+from engine.formats import colmap_files
+from engine.formats.colmap_files import find_model_dir
 from engine.formats.layout import SceneLayout
-from engine.io import colmap_files
-from engine.io.colmap_model import SUPPORTED_MODELS, find_model_dir
+from engine.io.colmap_model import SUPPORTED_MODELS
 from engine.io.scene_cache import cached_scene
 
 UNDISTORTED_MODELS = ("SIMPLE_RADIAL", "RADIAL", "OPENCV", "FULL_OPENCV")

@@ -114,3 +114,48 @@ def test_corrupt_ply_names_the_file(tmp_path: Path):
     bad.write_bytes(b"ply\nformat binary_little_endian 1.0\nelement vertex 10\nproperty float x\nend_header\n")
     with pytest.raises(InputError, match="broken.ply"):
         read_splats(bad)
+
+
+def _quat(R: np.ndarray) -> np.ndarray:
+    """w, x, y, z of a rotation matrix (the trace branch is enough for the rotations used here)."""
+    w = np.sqrt(max(1e-12, 1 + np.trace(R))) / 2
+    return np.array([w, (R[2, 1] - R[1, 2]) / (4 * w), (R[0, 2] - R[2, 0]) / (4 * w), (R[1, 0] - R[0, 1]) / (4 * w)])
+
+
+def test_a_tilted_capture_is_imported_upright_and_gives_back_its_cameras(tmp_path: Path):
+    """SfM chose its own axes (here 121 degrees off): the cameras come in under an upright frame whose world
+    up is the cameras' mean up, while each camera still converts back to exactly its COLMAP pose."""
+    from addon.import_scene import engine_matrix
+    from engine.formats.cameras import Camera, write_cameras_json
+
+    axis = np.array([1.0, 0.3, 0.2]) / np.linalg.norm([1.0, 0.3, 0.2])
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    angle = np.radians(121)
+    Q = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+    cameras, lines = [], []
+    for i in range(8):
+        centre = np.array([3 * np.cos(i * np.pi / 4), 3 * np.sin(i * np.pi / 4), 1.0])
+        forward = -centre / np.linalg.norm(centre)
+        right = np.cross(forward, [0, 0, 1])
+        right /= np.linalg.norm(right)
+        R = np.stack([right, np.cross(forward, right), forward]) @ Q.T  # the same rig, in SfM's tilted world
+        t = -R @ (Q @ centre)
+        cameras.append(Camera(f"{i:04d}.png", 64, 48, 50.0, 50.0, 32.0, 24.0, R, t))
+        lines += [f"{i + 1} {' '.join(map(str, _quat(R)))} {' '.join(map(str, t))} 1 {i:04d}.png", ""]
+    model = tmp_path / "scene" / "sparse" / "0"
+    model.mkdir(parents=True)
+    (model / "cameras.txt").write_text("1 PINHOLE 64 48 50 50 32 24\n")
+    (model / "images.txt").write_text("\n".join(lines) + "\n")
+    (model / "points3D.txt").write_text("")
+    write_cameras_json(cameras, tmp_path / "cameras.json")
+    collection = bpy.data.collections.new("capture")
+    bpy.context.scene.collection.children.link(collection)
+    objects = import_cameras(tmp_path / "cameras.json", collection, tmp_path / "scene")
+    assert all(o.parent is not None and "splatfill_frame" in o.parent for o in objects)
+    up = np.mean([np.array(o.matrix_world.col[1][:3]) for o in objects], axis=0)  # a Blender camera's +Y
+    assert np.allclose(up / np.linalg.norm(up), [0, 0, 1], atol=1e-5)
+    for obj, camera in zip(objects, cameras, strict=True):
+        d = obj.data
+        back = camera_formats.colmap_record(camera.name, engine_matrix(obj), d.lens, d.sensor_width, d.sensor_height,
+                                            d.sensor_fit, d.shift_x, d.shift_y, 64, 48)
+        assert np.allclose(back["R"], camera.R, atol=1e-5) and np.allclose(back["t"], camera.t, atol=1e-4)

@@ -13,7 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from engine.base.errors import InputError
+from ..base.errors import InputError
+from .layout import SceneLayout
 
 MODELS = {  # model id: (name, number of parameters)
     0: ("SIMPLE_PINHOLE", 3), 1: ("PINHOLE", 4), 2: ("SIMPLE_RADIAL", 4), 3: ("RADIAL", 5), 4: ("OPENCV", 8),
@@ -124,6 +125,30 @@ def _text_records(path: Path, keep_empty: bool = False) -> list[list[str]]:
     lines = path.read_text(errors="replace").splitlines()
     records = [line.split() for line in lines if not line.startswith("#") and (keep_empty or line.strip())]
     return records
+
+
+def find_model_dir(scene_root: Path) -> Path:
+    """The folder holding a scene's model: `sparse/0/` (COLMAP's layout) or `sparse/`."""
+    sparse = SceneLayout(scene_root).sparse
+    for candidate in (sparse / "0", sparse):
+        if any((candidate / f"cameras{ext}").is_file() for ext in (".bin", ".txt")):
+            return candidate
+    raise InputError(
+        f"no COLMAP model in {sparse}: expected sparse/0/cameras.bin (or .txt); "
+        "run COLMAP (and image_undistorter) on the images first"
+    )
+
+
+def world_to_camera_rotations(scene_root: Path) -> np.ndarray:
+    """(K, 3, 3) the world-to-camera rotations of a scene's views (for Blender-side code, which reads no
+    more of a model than this)."""
+    model_dir = find_model_dir(scene_root)
+    ext = ".bin" if (model_dir / "images.bin").is_file() else ".txt"
+    try:
+        images = read_images(model_dir / f"images{ext}")
+    except (OSError, ValueError, IndexError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot parse {model_dir / f'images{ext}'} ({exc}); re-export the model") from exc
+    return np.array([quat_to_rotation(image.qvec) for image in images.values()]).reshape(-1, 3, 3)
 
 
 def quat_to_rotation(q: np.ndarray) -> np.ndarray:
