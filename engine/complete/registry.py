@@ -123,8 +123,9 @@ def resolve_options(method: CompletionMethod, given: dict) -> dict:
     """The method's options from `given` (all methods' options, most at their defaults). An option of
     another method set away from its default is an error rather than silently ignored."""
     own = {o.name: o for o in method.options}
+    known = all_options()
     for name, value in given.items():
-        option = all_options().get(name)
+        option = known.get(name)
         if name not in own and option is not None and value != option.default:
             flag = "--" + name.replace("_", "-")
             raise InputError(f"{flag} is not an option of --method {method.name} (its options: "

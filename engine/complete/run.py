@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import torch
 
 from engine.base.device import pick_device
-from engine.base.errors import Cancelled, InputError
+from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir, check_new_output
 from engine.base.progress import emit
 from engine.complete.registry import CompletionMethod, all_options, get, methods, resolve_options
@@ -90,25 +90,22 @@ def run_complete(config: CompleteConfig) -> dict:
     job = _job(config)
     out, original = job.out, job.original
     start = time.perf_counter()
-    if not config.resume:
+    if config.resume:  # the training scene is there already, with the report of its making
+        colmap = json.loads(out.recolmap_json.read_text()) if out.recolmap_json.is_file() else None
+    else:
         keep = job.method.keep_regions(job)
-        colmap = None
         target = json.loads(job.removed.report.read_text()).get("object")
         with atomic_output_dir(out.scene.root) as tmp:
             write_training_scene(original.scene, job.inpainted, target and target["id"], SceneLayout(tmp), keep)
             colmap = job.method.after_scene(job, tmp)
         if colmap is not None:
             out.recolmap_json.write_text(json.dumps(colmap, indent=1))
-    colmap = json.loads(out.recolmap_json.read_text()) if out.recolmap_json.is_file() else None
     settings = dataclasses.replace(original.config, scene=str(out.scene.root), out=str(out.run.root),
                                    seed=config.seed, device=config.device, resolution=1,  # scene: at run's size
                                    steps=config.steps or original.config.steps)
     settings, plugins = job.method.setup(job, settings)
-    try:
-        metrics = train(settings, resume=config.resume, plugins=plugins)
-    except Cancelled as exc:
-        raise Cancelled(f"{str(exc).split('; continue')[0]}; continue with the same `python -m engine complete` "
-                        f"command and --resume") from exc
+    metrics = train(settings, resume=config.resume, plugins=plugins,
+                    resume_hint="the same `python -m engine complete` command and --resume")
     seconds = time.perf_counter() - start
     return _score(job, metrics, seconds, colmap)
 

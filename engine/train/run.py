@@ -69,9 +69,11 @@ def prepare_run(config: TrainConfig, resume: bool) -> TrainConfig:
     return config
 
 
-def train(config: TrainConfig, resume: bool = False, plugins: dict | None = None) -> dict:
+def train(config: TrainConfig, resume: bool = False, plugins: dict | None = None,
+          resume_hint: str = "--resume") -> dict:
     """Train a new run, or continue one from its newest checkpoint; returns its metrics. `plugins` are the
-    Trainer's completion plug-ins (start, frozen, objective, views, classifier); a resumed run needs the same ones."""
+    Trainer's completion plug-ins (start, frozen, objective, views, classifier); a resumed run needs the same ones.
+    `resume_hint` says how to continue after a cancel (a completion's run continues through `complete`)."""
     config = prepare_run(config, resume)
     run = Path(config.out)
     scene = load_scene(config.scene, config.resolution)
@@ -86,14 +88,14 @@ def train(config: TrainConfig, resume: bool = False, plugins: dict | None = None
     stop = {"signal": None}
     handlers = {s: signal.signal(s, lambda n, _f: stop.update(signal=n)) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
-        _loop(trainer, run, stop)
+        _loop(trainer, run, stop, resume_hint)
     finally:
         for s, h in handlers.items():
             signal.signal(s, h)
     return _finish(trainer, scene, run)
 
 
-def _loop(trainer: Trainer, run: Path, stop: dict) -> None:
+def _loop(trainer: Trainer, run: Path, stop: dict, resume_hint: str) -> None:
     config = trainer.config
     progress = Progress("train", config.steps)
     start = time.perf_counter() - trainer.seconds
@@ -110,7 +112,7 @@ def _loop(trainer: Trainer, run: Path, stop: dict) -> None:
             path = save_checkpoint(run, trainer, config.keep_checkpoints)
             progress.close()
             emit("cancelled", step=step, checkpoint=str(path))
-            raise Cancelled(f"stopped at step {step}; checkpoint {path}; continue with --resume")
+            raise Cancelled(f"stopped at step {step}; checkpoint {path}; continue with {resume_hint}")
     _synchronize(trainer.device)
     trainer.seconds = time.perf_counter() - start
     progress.close()
