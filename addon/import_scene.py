@@ -50,11 +50,14 @@ def upright_frame(scene_root: Path | None, collection: bpy.types.Collection) -> 
     return frame
 
 
-def engine_matrix(obj: bpy.types.Object) -> np.ndarray:
-    """(4, 4) `obj`'s matrix in the engine's world, undoing the upright frame it may be parented to."""
+def engine_matrix(obj: bpy.types.Object, frame: bpy.types.Object | None = None) -> np.ndarray:
+    """(4, 4) `obj`'s matrix in the engine's world, undoing the upright frame it is parented to, or else
+    `frame` (an object the user placed in the upright view, such as a cube around what to select)."""
     matrix = obj.matrix_world
     if obj.parent is not None and "splatfill_frame" in obj.parent:
-        matrix = obj.parent.matrix_world.inverted() @ matrix
+        frame = obj.parent
+    if frame is not None:
+        matrix = frame.matrix_world.inverted() @ matrix
     return np.array(matrix)
 
 
@@ -124,6 +127,7 @@ def _proxy_mesh(name: str, splats: Splats, index: np.ndarray) -> bpy.types.Mesh:
     mesh = bpy.data.meshes.new(name)
     mesh.vertices.add(len(index))
     mesh.vertices.foreach_set("co", splats.positions[index].ravel())
+    mesh.attributes.new("gaussian", "INT", "POINT").data.foreach_set("value", index.astype(np.int32))
     for attr, kind, values in (("rotation", "QUATERNION", splats.rotations[index]),
                                ("scale", "FLOAT_VECTOR", splats.scales[index] * PROXY_SIGMAS),
                                ("color", "FLOAT_COLOR", splats.colors[index])):

@@ -40,7 +40,10 @@ def read_splats(path: Path) -> Splats:
     names = {0: "background"}
     run = layout.run_of(path)
     identity = [f"obj_dc_{i}" for i in range(splat_ply.IDENTITY_DIM)]
-    if run is not None and run.classifier.is_file() and all(n in v.dtype.names for n in identity):
+    has_identity = all(n in v.dtype.names for n in identity)
+    if run is not None and run.segments.objects_json.is_file():
+        groups, names = _segment_groups(run, v, has_identity)
+    elif run is not None and run.classifier.is_file() and has_identity:
         weight, bias = splat_ply.read_classifier(run.classifier)
         groups = (columns("obj_dc_", splat_ply.IDENTITY_DIM) @ weight.T + bias).argmax(1).astype(np.int32)
         names = _object_names(run, len(bias))
@@ -57,6 +60,23 @@ def scene_of(ply: Path) -> Path | None:
     except (OSError, ValueError, KeyError):
         return None
     return scene if scene is not None and scene.is_dir() else None
+
+
+def _segment_groups(run: layout.RunLayout, v: np.ndarray, has_identity: bool) -> tuple[np.ndarray, dict[int, str]]:
+    """Groups from the objects `engine segment` found: its per-Gaussian ids for the run's own .ply, the
+    one-hot identities it gave the Gaussians for a .ply made from the run afterwards (removed, completed)."""
+    names = {0: "background"}
+    try:
+        names.update({int(e["id"]): str(e["name"]) for e in json.loads(run.segments.objects_json.read_text())})
+        ids = np.load(run.segments.ids) if run.segments.ids.is_file() else np.zeros(0)
+    except (OSError, ValueError, KeyError, TypeError):
+        return np.zeros(len(v), np.int32), {0: "background"}
+    if len(ids) == len(v):
+        return ids.astype(np.int32), names
+    if has_identity:
+        identity = np.stack([v[f"obj_dc_{i}"] for i in range(max(names) + 1)], axis=1)
+        return identity.argmax(1).astype(np.int32), names
+    return np.zeros(len(v), np.int32), names
 
 
 def _object_names(run: layout.RunLayout, classes: int) -> dict[int, str]:

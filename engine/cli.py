@@ -17,7 +17,8 @@ def _build_scene(args: argparse.Namespace) -> None:
 
 
 def _info(args: argparse.Namespace) -> None:
-    from engine.io.scene import describe_extent, load_scene
+    from engine.io.extent import describe_extent
+    from engine.io.scene import load_scene
 
     scene = load_scene(args.scene, args.resolution)
     cam = scene.cameras[0]
@@ -56,6 +57,20 @@ def _import_splat(args: argparse.Namespace) -> None:
     metrics = import_splat(config_from_args(args, ImportConfig))
     print(f"imported {metrics['gaussians']} Gaussians into {args.out}; test PSNR {metrics['psnr']:.2f} dB against "
           f"the scene's images", file=sys.stderr)
+
+
+def _segment(args: argparse.Namespace) -> None:
+    from engine.base.output_dir import check_new_output
+    from engine.formats.layout import RunLayout
+    from engine.train.config import config_from_args
+    from engine.train.segments import SegmentConfig, run_segment
+    from engine.train.trained_run import load_run
+
+    config = config_from_args(args, SegmentConfig)
+    check_new_output(Path(config.out) if config.out else RunLayout(config.run).segments.root)
+    report = run_segment(load_run(config.run), config)
+    print(f"{report['objects']} objects in {config.out or RunLayout(config.run).segments.root}; remove one with "
+          f"`remove --run {config.run} --object object_1`", file=sys.stderr)
 
 
 def _remove(args: argparse.Namespace) -> None:
@@ -217,6 +232,11 @@ def build_parser() -> argparse.ArgumentParser:
         add_config_arguments(p, cls, required=("run",))
         p.set_defaults(handler=handler)
     from engine.train.imported_run import ImportConfig
+    from engine.train.segments import SegmentConfig
+
+    p = sub.add_parser("segment", help="objects for a run without ground-truth masks: from your masks or a box")
+    add_config_arguments(p, SegmentConfig, required=("run",))
+    p.set_defaults(handler=_segment)
 
     p = sub.add_parser("import-splat", help="make a run from a .ply trained elsewhere and its COLMAP scene")
     add_config_arguments(p, ImportConfig, required=("ply", "scene", "out"))

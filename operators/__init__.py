@@ -4,9 +4,9 @@ from __future__ import annotations
 
 
 def _modules():
-    from . import check_engine, panel, pipeline
+    from . import capture, check_engine, panel, pipeline
 
-    return (check_engine, pipeline, panel)
+    return (check_engine, pipeline, capture, panel)
 
 
 def register() -> None:

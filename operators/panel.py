@@ -14,9 +14,13 @@ class SPLATFILL_PT_pipeline(bpy.types.Panel):
     def draw(self, context: bpy.types.Context) -> None:
         layout = self.layout
         col = layout.column(align=True)
+        col.operator("splatfill.import_capture", icon="IMPORT")
         col.operator("splatfill.import_colmap", icon="CAMERA_DATA")
         col.operator("splatfill.import_splats", icon="IMPORT")
         col.operator("splatfill.train", icon="PLAY")
+        col = layout.column(align=True)
+        col.operator("splatfill.find_objects", icon="OUTLINER_OB_GROUP_INSTANCE")
+        col.operator("splatfill.object_from_selection", icon="RESTRICT_SELECT_OFF")
         col = layout.column(align=True)
         col.operator("splatfill.remove_selected", icon="TRASH")
         col.operator("splatfill.hole_masks", icon="MOD_MASK")

@@ -49,7 +49,7 @@ def _method_items(self, context):
     return _plugin_items("methods")
 
 
-def _stamp() -> str:
+def stamp() -> str:
     return time.strftime("%Y%m%d-%H%M%S")
 
 
@@ -61,7 +61,7 @@ def _new_collection(name: str, **props: str) -> bpy.types.Collection:
     return collection
 
 
-def _run_collection(context: bpy.types.Context, needs: str = "splatfill_run") -> bpy.types.Collection:
+def run_collection(context: bpy.types.Context, needs: str = "splatfill_run") -> bpy.types.Collection:
     """The collection of the active proxy (or the active collection), which must carry `needs`."""
     obj = context.active_object
     candidates = list(obj.users_collection) if obj is not None else []
@@ -140,7 +140,7 @@ class SPLATFILL_OT_train(EngineOperator, bpy.types.Operator):
 
     def engine_args(self, context, device):
         scene = Path(bpy.path.abspath(self.scene))
-        self._out = Path(bpy.path.abspath(self.out)) if self.out else scene.parent / f"{scene.name}-run-{_stamp()}"
+        self._out = Path(bpy.path.abspath(self.out)) if self.out else scene.parent / f"{scene.name}-run-{stamp()}"
         args = ["train", "--scene", str(scene), "--out", str(self._out), "--preset", self.preset, "--device", device]
         return args + (["--steps", str(self.steps)] if self.steps else [])
 
@@ -158,10 +158,10 @@ class SPLATFILL_OT_remove_selected(EngineOperator, bpy.types.Operator):
         obj = context.active_object
         if obj is None or "splatfill_group" not in obj:
             raise UserError("select one of a splatfill scene's objects in the Outliner first")
-        run = Path(_run_collection(context)["splatfill_run"])
+        run = Path(run_collection(context)["splatfill_run"])
         self._name = obj.name
         self._run = run
-        self._out = run / f"removed-{bpy.path.clean_name(obj.name)}-{_stamp()}"
+        self._out = run / f"removed-{bpy.path.clean_name(obj.name)}-{stamp()}"
         return ["remove", "--run", str(run), "--object", str(obj["splatfill_group"]), "--out", str(self._out),
                 "--device", device]
 
@@ -178,7 +178,7 @@ class SPLATFILL_OT_hole_masks(EngineOperator, bpy.types.Operator):
     bl_description = "Depth-guided masks of what no view saw behind the removed object"
 
     def engine_args(self, context, device):
-        self._collection = _run_collection(context, "splatfill_removed")
+        self._collection = run_collection(context, "splatfill_removed")
         removed = Path(self._collection["splatfill_removed"])
         self._out = removed.parent / f"holes-{removed.name}"
         return ["holes", "--run", self._collection["splatfill_run"], "--removed", str(removed), "--out",
@@ -197,7 +197,7 @@ class SPLATFILL_OT_inpaint(EngineOperator, bpy.types.Operator):
     inpainter: bpy.props.EnumProperty(name="Inpainter", items=_inpainter_items)
 
     def engine_args(self, context, device):
-        self._collection = _run_collection(context, "splatfill_holes")
+        self._collection = run_collection(context, "splatfill_holes")
         removed = Path(self._collection["splatfill_removed"])
         self._out = removed.parent / f"inpainted-{self.inpainter}-{removed.name}"
         return ["inpaint", "--run", self._collection["splatfill_run"], "--removed", str(removed), "--holes",
@@ -219,9 +219,9 @@ class SPLATFILL_OT_complete(EngineOperator, bpy.types.Operator):
                                        default="lpips")
 
     def engine_args(self, context, device):
-        self._collection = c = _run_collection(context, "splatfill_inpainted")
+        self._collection = c = run_collection(context, "splatfill_inpainted")
         removed = Path(c["splatfill_removed"])
-        self._out = removed.parent / f"complete-{self.method}-{removed.name}-{_stamp()}"
+        self._out = removed.parent / f"complete-{self.method}-{removed.name}-{stamp()}"
         method = next(m for m in engine_plugins(engine_settings().python)["methods"] if m["name"] == self.method)
         own = {o["name"] for o in method["options"]}  # only the chosen method's options reach the engine
         options = [arg for name in ("refs", "perceptual") if name in own
@@ -244,7 +244,7 @@ class SPLATFILL_OT_evaluate(EngineOperator, bpy.types.Operator):
     bl_description = "PSNR, SSIM, LPIPS, FID and their masked variants on the test views of the active scene"
 
     def engine_args(self, context, device):
-        c = _run_collection(context)
+        c = run_collection(context)
         removed = ["--removed", c["splatfill_removed"]] if "splatfill_removed" in c else []
         self._name = c.name
         return ["evaluate", "--run", c["splatfill_run"], *removed, "--device", device]

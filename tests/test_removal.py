@@ -86,7 +86,7 @@ def test_a_run_folder_without_its_files_names_what_is_missing(tiny_run: Path, tm
 
 def test_a_box_in_another_frame_says_where_the_gaussians_are_instead_of_removing_nothing():
     """A capture's frame has SfM's scale and axes: a box given in the generator's would remove 0 Gaussians."""
-    from engine.edit.removal import inside_box
+    from engine.io.extent import inside_box
 
     means = np.random.default_rng(0).uniform([-1, -2, 0], [1, 2, 3], size=(1000, 3))
     assert inside_box(means, [-0.5, -0.5, 0.5, 0.5, 0.5, 1.5]).sum() > 0

@@ -22,18 +22,23 @@ def check_new_output(final: Path) -> None:
 
 
 @contextmanager
-def atomic_output_dir(final: Path) -> Iterator[Path]:
-    """Yield a temporary folder; on success it becomes `final`, on any error it is removed."""
+def atomic_output_dir(final: Path, replace: bool = False) -> Iterator[Path]:
+    """Yield a temporary folder; on success it becomes `final`, on any error it is removed. With `replace`,
+    an existing `final` (an output of ours that the new one extends) is swapped out only once the new one is
+    complete."""
     final = Path(final)
-    check_new_output(final)
+    if not replace:
+        check_new_output(final)
     final.parent.mkdir(parents=True, exist_ok=True)
     tmp = final.parent / f".{final.name}.tmp-{os.getpid()}"
     shutil.rmtree(tmp, ignore_errors=True)
     tmp.mkdir()
     try:
         yield tmp
+        old = final.parent / f".{final.name}.old-{os.getpid()}"
         if final.exists():
-            final.rmdir()  # empty, checked above
+            final.rename(old)  # empty unless `replace`
         tmp.rename(final)
+        shutil.rmtree(old, ignore_errors=True)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

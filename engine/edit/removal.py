@@ -29,11 +29,11 @@ from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
 from engine.formats.cameras import Camera, project, sample_nearest
 from engine.formats.layout import RemovedLayout
+from engine.io.extent import inside_box
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import exr_name, write_depth, write_png
 from engine.io.masks import dilate
 from engine.io.ply_io import save_ply
-from engine.io.scene import describe_extent
 from engine.metrics.image_metrics import psnr
 from engine.pictures.preview import label, overlay
 from engine.render.render_views import render_pictures
@@ -59,19 +59,6 @@ def object_probability(identity: torch.Tensor, classifier: torch.nn.Linear, obje
         raise InputError(f"object id {object_id} is beyond the classifier's {classifier.out_features} classes")
     with torch.no_grad():
         return torch.softmax(classifier(identity.float()), dim=-1)[:, object_id]
-
-
-def inside_box(means: np.ndarray, box: list[float]) -> np.ndarray:
-    """(N,) bool: the Gaussians whose centres lie in the box; a box that holds none is an error that says
-    where the Gaussians are (a box given in another frame than the scene's would otherwise remove nothing)."""
-    if len(box) != 6:
-        raise InputError(f"--box needs 6 numbers x0 y0 z0 x1 y1 z1, got {len(box)}")
-    lo, hi = np.minimum(box[:3], box[3:]), np.maximum(box[:3], box[3:])
-    chosen = np.all((means >= lo) & (means <= hi), axis=1)
-    if not chosen.any():
-        raise InputError(f"the box {' '.join(f'{v:g}' for v in box)} holds none of the {len(means)} Gaussians; "
-                         f"they lie in {describe_extent(means)} (1st to 99th percentile): give a box in that frame")
-    return chosen
 
 
 def inside_visual_hull(means: np.ndarray, cameras: list[Camera], masks: list[np.ndarray], min_views: int = 3

@@ -9,6 +9,7 @@ A scene folder (made by scripts/make_scene.py, or any COLMAP capture):
 make_scene.py's raw renders, before `build-scene`: with/ without/ cameras.json split.json objects.json meta.json
 A run folder (`python -m engine train`), and what each later stage adds to it:
     config.json checkpoints/ point_cloud.ply classifier.npz objects.json metrics.json    train
+    segments/  ids.npy masks/ objects.json segments.json (objects without ground truth)    segment
     removed/   point_cloud.ply images/ depth/ masks/ removal.json sheet.png              remove
     holes/     <view>.png (255 = hole) holes.json sheet.png                               holes
     inpainted/<inpainter>/ and inpainted/direct-<inpainter>/                              inpaint
@@ -121,6 +122,25 @@ class RendersLayout(_Folder):
 
 
 @dataclass(frozen=True)
+class SegmentsLayout(Views):
+    """`segment`'s output: objects found after training (engine.train.segments), which the run then uses in
+    place of its scene's own masks and objects."""
+
+    @property
+    def ids(self) -> Path:
+        """(N,) uint8 object id per Gaussian of the run's point_cloud.ply (0 = background)."""
+        return self.root / "ids.npy"
+
+    @property
+    def objects_json(self) -> Path:
+        return self.root / "objects.json"
+
+    @property
+    def report(self) -> Path:
+        return self.root / "segments.json"
+
+
+@dataclass(frozen=True)
 class RemovedLayout(Views):
     """`remove`'s output: the remaining Gaussians, their renders and the removed object's region per view."""
 
@@ -189,6 +209,10 @@ class RunLayout(_Folder):
     @property
     def metrics_json(self) -> Path:
         return self.root / "metrics.json"
+
+    @property
+    def segments(self) -> SegmentsLayout:
+        return SegmentsLayout(self.root / "segments")
 
     @property
     def removed(self) -> RemovedLayout:

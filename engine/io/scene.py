@@ -75,15 +75,6 @@ class Scene:
         raise InputError(f"no object {key!r} in {self.root}; objects present: {present}")
 
 
-def describe_extent(points: np.ndarray) -> str:
-    """Where most of `points` (N, 3) lie, per axis from the 1st to the 99th percentile, in the scene's own
-    frame: what a user needs to give a --box in a capture whose scale and axes SfM chose."""
-    if len(points) == 0:
-        return "no points"
-    lo, hi = np.percentile(points, 1, axis=0), np.percentile(points, 99, axis=0)
-    return ", ".join(f"{axis} [{a:.3g}, {b:.3g}]" for axis, a, b in zip("xyz", lo, hi, strict=True))
-
-
 def load_scene(root: Path | str, resolution: int = 1) -> Scene:
     """Load a scene folder; see the module docstring for the layout. `resolution` > 1 loads it at
     1/resolution of its size (engine.io.downscale), as 3DGS's -r."""

@@ -6,18 +6,22 @@ obj_dc_* identities) and classifier.npz; the scene it was trained on is named in
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import torch
 
 from engine.base.errors import InputError
 from engine.formats.layout import RunLayout
 from engine.io.gaussians import Gaussians
+from engine.io.image_io import read_png
 from engine.io.ply_io import load_classifier, load_ply
-from engine.io.scene import Scene, load_scene
+from engine.io.scene import Scene, SceneObject, load_scene
 from engine.train.config import TrainConfig
+from engine.train.segments import identity_of, read_segment_objects
 
 
 @dataclass
@@ -55,14 +59,44 @@ def _read_run(root: Path, scene: Path | str | None) -> tuple[TrainConfig, int, P
 def load_run_scene(root: Path | str) -> Scene:
     """Only the scene of run folder `root`, for stages that read its files but not its Gaussians."""
     config, _, scene_dir = _read_run(Path(root), None)
-    return load_scene(scene_dir, config.resolution)
+    return _scene_with_segments(load_scene(scene_dir, config.resolution), RunLayout(root))
+
+
+def _segments(layout: RunLayout) -> list[SceneObject] | None:
+    """The objects `segment` found for this run (engine.train.segments), if it ran."""
+    return read_segment_objects(layout) if layout.segments.objects_json.is_file() else None
+
+
+def _scene_with_segments(scene: Scene, layout: RunLayout) -> Scene:
+    """The scene with the segments' objects and per-view masks in place of its own, when they exist."""
+    objects = _segments(layout)
+    if objects is None:
+        return scene
+    folder = layout.segments.masks
+    masks = [read_png(folder / Path(c.name).with_suffix(".png"), kind="mask") for c in scene.cameras]
+    return dataclasses.replace(scene, objects=objects, masks=masks)
+
+
+def _run_with_segments(run: TrainedRun) -> TrainedRun:
+    """Identities one-hot over the segments' objects, and the classifier that reads them."""
+    objects = _segments(run.layout)
+    if objects is None:
+        return run
+    ids = np.load(run.layout.segments.ids).astype(np.int64)
+    if len(ids) != len(run.gaussians["means"]):
+        raise InputError(f"{run.layout.segments.ids} has {len(ids)} ids for {len(run.gaussians['means'])} "
+                         "Gaussians: the run changed since; run `python -m engine segment` again")
+    identity, classifier = identity_of(ids, max([o.id for o in objects], default=0))
+    return dataclasses.replace(run, scene=_scene_with_segments(run.scene, run.layout),
+                               gaussians={**run.gaussians, "identity": identity}, classifier=classifier)
 
 
 def load_run(root: Path | str, scene: Path | str | None = None) -> TrainedRun:
     """Load run folder `root`; `scene` overrides the scene folder recorded in its config.json."""
     root = Path(root)
     config, steps, scene_dir = _read_run(root, scene)
-    return TrainedRun(root=root, config=config, scene=load_scene(scene_dir, config.resolution),
-                      gaussians=load_ply(RunLayout(root).point_cloud),
-                      classifier=load_classifier(RunLayout(root).classifier),
-                      sh_degree=config.sh_degree_at(steps))
+    run = TrainedRun(root=root, config=config, scene=load_scene(scene_dir, config.resolution),
+                     gaussians=load_ply(RunLayout(root).point_cloud),
+                     classifier=load_classifier(RunLayout(root).classifier),
+                     sh_degree=config.sh_degree_at(steps))
+    return _run_with_segments(run)

@@ -1,0 +1,181 @@
+"""Object proposals from a trained scene's geometry alone, for a capture without masks (`segment --auto`).
+
+What a capture's cameras tell: what they look at (the point nearest every optical axis), how far away it is
+(the orbit radius R, the scene's scale whatever SfM chose) and which way is up (their mean up vector).
+Objects are what rests on a support surface there: the dense horizontal planes (floor, table top, slab) are
+found from the Gaussians' heights and refined by least squares; the solid Gaussians off those planes, above
+the lowest one and within the orbit, are split into objects by 3D connectivity on a voxel grid (voxel
+`voxel` x R, or their median spacing where the reconstruction is sparser); pieces as wide as the orbit
+(walls, the table's rim) stay background. Faint Gaussians (floaters, soft edges) join the object whose voxel
+they lie in. Every length is a fraction of R, so the same defaults hold for a generated scene in metres and
+an SfM frame of arbitrary scale.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+
+from engine.base.knn import knn
+from engine.formats.cameras import Camera
+
+COARSE = 5  # support planes are first looked for in height bins this many tolerances wide
+NEIGHBOURS = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
+                       if (i, j, k) > (0, 0, 0)])  # half of the 26-neighbourhood: each pair once
+
+
+@dataclass
+class ProposalConfig:
+    solid: float = 0.5  # opacity a Gaussian needs to shape the geometry
+    plane_tol: float = 0.012  # a Gaussian within this x R of a support plane belongs to it
+    plane_share: float = 0.05  # a plane holds at least this share of the solid Gaussians in the orbit
+    voxel: float = 0.01  # connectivity voxel, x R (at least the Gaussians' median spacing)
+    max_width: float = 0.8  # a piece wider than this x R is scenery, not an object
+    orbit: float = 1.0  # objects lie within this x R of the look-at point, horizontally
+
+
+@dataclass
+class Frame:
+    """Where a capture's cameras look, how far they are and which way is up."""
+
+    center: np.ndarray
+    radius: float
+    up: np.ndarray
+
+
+def camera_frame(cameras: list[Camera]) -> Frame:
+    """The point nearest all optical axes (least squares), the median camera distance to it, the mean up."""
+    centres = np.stack([c.center for c in cameras])
+    axes = np.stack([c.R[2] for c in cameras])  # viewing directions in the world
+    projector = np.eye(3)[None] - axes[:, :, None] * axes[:, None, :]
+    center = np.linalg.lstsq(projector.sum(0), np.einsum("kij,kj->i", projector, centres), rcond=None)[0]
+    up = -np.stack([c.R[1] for c in cameras]).mean(0)
+    return Frame(center, float(np.median(np.linalg.norm(centres - center, axis=1))), up / np.linalg.norm(up))
+
+
+def support_planes(points: np.ndarray, up: np.ndarray, tol: float, share: float, most: int = 4
+                   ) -> list[tuple[np.ndarray, float]]:
+    """Horizontal planes (unit normal n, offset d, n.p + d = 0) that hold at least `share` of `points`
+    within `tol`. SfM's up is only roughly up, which smears a wide floor over many heights: peaks are looked
+    for in bins of COARSE x tol, then each normal is refitted by least squares to a band narrowing to tol."""
+    heights = points @ up
+    lo, hi = np.percentile(heights, [0.5, 99.5]) if len(points) else (0.0, 0.0)
+    counts, edges = np.histogram(heights, bins=max(int((hi - lo) / (COARSE * tol)), 1), range=(lo, hi))
+    planes: list[tuple[np.ndarray, float]] = []
+    for b in np.argsort(-counts):
+        if counts[b] < share * len(points) or len(planes) == most:
+            break
+        normal, offset = up, -0.5 * (edges[b] + edges[b + 1])
+        for width in (COARSE * tol, 2 * tol, tol, tol):
+            band = points[np.abs(points @ normal + offset) < width]
+            if len(band) < 3:
+                break
+            mean = band.mean(0)
+            normal = np.linalg.svd(band - mean, full_matrices=False)[2][-1]
+            normal = normal if normal @ up > 0 else -normal
+            offset = float(-normal @ mean)
+        held = np.abs(points @ normal + offset) < tol
+        seen = any(abs(offset - d) < COARSE * tol for _, d in planes)
+        if normal @ up > np.cos(np.radians(20)) and held.sum() >= share * len(points) and not seen:
+            planes.append((normal, offset))
+    return planes
+
+
+def components(count: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Connected components of `count` nodes joined by edges (a, b): the smallest node of each, per node
+    (min-label hooking with pointer jumping: a few dozen vectorised passes, no graph library)."""
+    label = np.arange(count)
+    while True:
+        new = label.copy()
+        low = np.minimum(label[a], label[b])
+        np.minimum.at(new, label[a], low)
+        np.minimum.at(new, label[b], low)
+        while not np.array_equal(new[new], new):
+            new = new[new]
+        if np.array_equal(new, label):
+            return label
+        label = new
+
+
+def voxel_components(points: np.ndarray, size: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per point, its occupied voxel's index and component; and the voxels' integer keys (V, 3)."""
+    cells = np.floor(points / size).astype(np.int64)
+    keys, voxel = np.unique(cells, axis=0, return_inverse=True)
+    code = _codes(keys)
+    order = np.argsort(code)
+    a, b = [], []
+    for offset in NEIGHBOURS:
+        other = _codes(keys + offset)
+        at = np.clip(np.searchsorted(code[order], other), 0, len(code) - 1)
+        hit = code[order][at] == other
+        a.append(np.flatnonzero(hit))
+        b.append(order[at[hit]])
+    label = components(len(keys), np.concatenate(a), np.concatenate(b))
+    return voxel.ravel(), label, keys
+
+
+def _codes(keys: np.ndarray) -> np.ndarray:
+    shifted = keys + (1 << 20)
+    return (shifted[:, 0] << 42) | (shifted[:, 1] << 21) | shifted[:, 2]
+
+
+def propose(means: np.ndarray, opacity: np.ndarray, cameras: list[Camera], config: ProposalConfig
+            ) -> tuple[np.ndarray, dict]:
+    """(N,) proposal id per Gaussian (0 = background, ids in no order) and what was found."""
+    frame = camera_frame(cameras)
+    r = frame.radius
+    offset = means - frame.center
+    horizontal = np.linalg.norm(offset - np.outer(offset @ frame.up, frame.up), axis=1)
+    near = horizontal <= config.orbit * r
+    solid = near & (opacity >= config.solid)
+    planes = support_planes(means[solid], frame.up, config.plane_tol * r, config.plane_share)
+    if planes:
+        lowest = min(-d for _, d in planes)
+        on_plane = np.any([np.abs(means @ n + d) < config.plane_tol * r for n, d in planes], axis=0)
+        candidate = near & ~on_plane & (means @ frame.up > lowest + config.plane_tol * r)
+    else:
+        candidate = near
+    ids = np.zeros(len(means), np.int64)
+    seeds = np.flatnonzero(candidate & solid)
+    if len(seeds) == 0:
+        return ids, {"planes": len(planes), "proposals": 0, "radius": r}
+    size = max(config.voxel * r, spacing(means[seeds]))
+    voxel, label, keys = voxel_components(means[seeds], size)
+    width = _component_widths(means[seeds], label[voxel], frame.up)
+    keep = width <= config.max_width * r
+    part = np.where(keep[label], label + 1, 0)  # per voxel, its component + 1, or 0
+    ids[seeds] = part[voxel]
+    faint = np.flatnonzero(candidate & ~solid)  # joins the object whose voxel it lies in
+    cells = np.floor(means[faint] / size).astype(np.int64)
+    code, order = _codes(keys), np.argsort(_codes(keys))
+    at = np.clip(np.searchsorted(code[order], _codes(cells)), 0, len(code) - 1)
+    hit = code[order][at] == _codes(cells)
+    ids[faint[hit]] = part[order[at[hit]]]
+    return ids, {"planes": len(planes), "proposals": int(len(np.unique(ids)) - (ids == 0).any()),
+                 "radius": round(r, 4), "voxel": round(size, 5)}
+
+
+def spacing(points: np.ndarray, sample: int = 2000) -> float:
+    """Median distance from a point to its nearest neighbour (on a sample): a sparse reconstruction (few
+    views, few steps) needs voxels at least this large to hold one object together."""
+    if len(points) < 2:
+        return 0.0
+    rng = np.random.default_rng(0)
+    queries = points[rng.choice(len(points), min(sample, len(points)), replace=False)]
+    distances = knn(torch.as_tensor(queries), torch.as_tensor(points), 2)[0][:, 1]  # [:, 0] is the point itself
+    return float(distances.median())
+
+
+def _component_widths(points: np.ndarray, label: np.ndarray, up: np.ndarray) -> np.ndarray:
+    """Per component label (indexed by label), the horizontal diagonal of its points' extent."""
+    flat = points - np.outer(points @ up, up)
+    width = np.zeros(label.max() + 1)
+    for axis in range(3):
+        lo = np.full(label.max() + 1, np.inf)
+        hi = np.full(label.max() + 1, -np.inf)
+        np.minimum.at(lo, label, flat[:, axis])
+        np.maximum.at(hi, label, flat[:, axis])
+        width += np.where(np.isfinite(lo), hi - lo, 0.0) ** 2
+    return np.sqrt(width)

@@ -1,0 +1,248 @@
+"""Objects for a run that has no ground-truth masks (a user's capture, a splat trained elsewhere): the
+Gaussians grouped into objects after training, written to RUN/segments/ and used by every later stage.
+
+Three ways, one artefact (engine.formats.layout.SegmentsLayout): per-Gaussian object ids (ids.npy, 0 =
+background), objects.json (id, name, 3D box, Gaussians) and per-view instance-id PNGs rendered from the ids
+(masks/<image name>.png), plus segments.json (how they were made).
+
+- from user masks (`--from-masks DIR`): per-view masks whose ids need not agree across views (what SAM's
+  automatic mask generator or any 2D tool gives). Each Gaussian centre that a training view sees (in frame,
+  in front, within `rel_tol` of the rendered depth) takes the id under it; a view's segment joins the object
+  that most of its Gaussians already belong to (at least `join`), else it starts a new one; each Gaussian
+  finally takes the object it was seen in most often (id 0, unlabelled, counts as background). Training-free:
+  seconds.
+- automatic (`--auto`): proposals from the geometry alone (engine.train.proposals): what rests on the
+  capture's support planes, split by 3D connectivity.
+- from a selection (`--box`, or `--indices` for the proxy points a user selected in Blender): those
+  Gaussians become one more object beside those found so far.
+
+When RUN/segments/ exists, engine.train.trained_run loads the run with these objects, masks and identities
+(the identities one-hot over the objects, the classifier their identity map), so `remove --object NAME`,
+hole masks, inpainting, completion and Blender's Outliner work as on a generated scene. Gaussian Grouping's
+identity has 16 dimensions, so a run holds at most 15 objects besides the background (the largest kept).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from engine.base.device import pick_device
+from engine.base.errors import InputError
+from engine.base.output_dir import atomic_output_dir
+from engine.base.progress import Progress, emit
+from engine.formats.cameras import Camera, project, sample_nearest
+from engine.formats.layout import SegmentsLayout
+from engine.formats.splat_ply import IDENTITY_DIM
+from engine.io.extent import bounding_box, inside_box
+from engine.io.gaussians import Gaussians
+from engine.io.image_io import read_png, write_png
+from engine.io.scene import Scene, SceneObject
+from engine.render.rasterize import CameraTensors, render
+from engine.render.render_views import render_pictures
+from engine.train.proposals import ProposalConfig, propose
+
+MAX_OBJECTS = IDENTITY_DIM - 1
+SHARPNESS = 20.0  # classifier logit for a Gaussian's own object: softmax ~1, so removal's threshold holds
+
+
+@dataclass
+class SegmentConfig(ProposalConfig):
+    run: str = ""
+    auto: bool = False  # proposals from the geometry alone (engine.train.proposals)
+    from_masks: str = ""  # a folder of per-view instance-id PNGs named like the images (0 = unlabelled)
+    box: list[float] = field(default_factory=list)  # x0 y0 z0 x1 y1 z1: the Gaussians inside become an object
+    indices: str = ""  # a .npy or text file of Gaussian indices (Blender's selected proxy points): one object
+    name: str = ""  # --box/--indices: the object's name (default object_<id>)
+    rel_tol: float = 0.03  # a Gaussian is seen when its depth is within this fraction of the rendered depth
+    join: float = 0.5  # a segment joins the object that holds at least this fraction of its Gaussians
+    min_gaussians: int = 20  # smaller objects go to the background
+    out: str = ""  # default RUN/segments
+    device: str = "auto"
+
+    @property
+    def adds(self) -> bool:
+        """--box and --indices add one object to the run's segments; --auto and --from-masks make them anew."""
+        return bool(self.box or self.indices)
+
+
+def lift_masks(means: np.ndarray, cameras: list[Camera], masks: list[np.ndarray], depths: list[np.ndarray],
+               rel_tol: float, join: float) -> tuple[np.ndarray, dict]:
+    """(N,) object id per Gaussian (0 = background) from per-view masks with unassociated ids, and stats."""
+    n = len(means)
+    current = np.full(n, -1, np.int64)  # the object a Gaussian last joined (-1: none yet)
+    observations: list[np.ndarray] = []  # codes gaussian * stride + object
+    stride, next_id, segments, joined = 1 << 20, 1, 0, 0
+    for camera, mask, depth in zip(cameras, masks, depths, strict=True):
+        u, v, z = project(camera, means)
+        seen_depth, inside = sample_nearest(depth, u, v)
+        local, _ = sample_nearest(mask, u, v)
+        seen = inside & (z > 0) & (np.abs(z - seen_depth) <= rel_tol * np.abs(z))
+        objects = np.zeros(n, np.int64)
+        for label in np.unique(local[seen]):
+            if label == 0:
+                continue
+            members = np.flatnonzero(seen & (local == label))
+            known = current[members][current[members] > 0]
+            segments += 1
+            if len(known):
+                best = np.bincount(known).argmax()
+                if (known == best).sum() >= join * len(members):
+                    objects[members], joined = best, joined + 1
+                    continue
+            objects[members], next_id = next_id, next_id + 1
+        labelled = seen & (objects > 0)
+        current[labelled] = objects[labelled]
+        observations.append(np.flatnonzero(seen) * stride + objects[seen])
+    return _mode(np.concatenate(observations) if observations else np.zeros(0, np.int64), n, stride), \
+        {"segments": segments, "joined": joined, "objects_found": next_id - 1}
+
+
+def _mode(codes: np.ndarray, n: int, stride: int) -> np.ndarray:
+    """Per Gaussian, the object it was seen in most often (0 where never seen)."""
+    ids = np.zeros(n, np.int64)
+    if not len(codes):
+        return ids
+    pairs, counts = np.unique(codes, return_counts=True)
+    gaussian, obj = pairs // stride, pairs % stride
+    order = np.lexsort((-counts, gaussian))  # per Gaussian, the most frequent first
+    first = np.unique(gaussian[order], return_index=True)[1]
+    ids[gaussian[order][first]] = obj[order][first]
+    return ids
+
+
+def renumber(ids: np.ndarray, min_gaussians: int) -> np.ndarray:
+    """Objects by size, largest first, as 1..K (K <= MAX_OBJECTS); small or surplus ones become background."""
+    sizes = np.bincount(ids)
+    order = [i for i in np.argsort(-sizes, kind="stable") if i != 0 and sizes[i] >= min_gaussians][:MAX_OBJECTS]
+    table = np.zeros(len(sizes), np.int64)
+    table[order] = np.arange(1, len(order) + 1)
+    return table[ids]
+
+
+def identity_of(ids: np.ndarray, count: int) -> tuple[torch.Tensor, torch.nn.Linear]:
+    """Identities one-hot over the objects and the classifier that reads them (engine.train.trained_run)."""
+    identity = torch.zeros(len(ids), IDENTITY_DIM)
+    identity[torch.arange(len(ids)), torch.as_tensor(ids)] = 1.0
+    classifier = torch.nn.Linear(IDENTITY_DIM, count + 1)
+    with torch.no_grad():
+        classifier.weight.copy_(SHARPNESS * torch.eye(count + 1, IDENTITY_DIM))
+        classifier.bias.zero_()
+    return identity, classifier
+
+
+def instance_masks(gaussians: Gaussians, ids: np.ndarray, cameras: list[Camera], sh_degree: int,
+                   device: torch.device) -> list[np.ndarray]:
+    """Per view, the object id whose Gaussians dominate each pixel (0 where little is rendered)."""
+    count = int(ids.max()) if len(ids) else 0
+    identity, classifier = identity_of(ids, count)
+    moved = {k: v.to(device) for k, v in {**gaussians, "identity": identity}.items()}
+    classifier = classifier.to(device)
+    masks = []
+    with torch.no_grad():
+        for camera in cameras:
+            out = render(moved, CameraTensors.from_camera(camera, device), sh_degree, classifier=classifier,
+                         depth=False)
+            label = out.logits.argmax(-1)
+            masks.append(torch.where(out.alpha > 0.5, label, 0).to(torch.uint8).cpu().numpy())
+    return masks
+
+
+def run_segment(run, config: SegmentConfig) -> dict:
+    """Write RUN/segments/ for a loaded run (engine.train.trained_run.TrainedRun). --auto and --from-masks
+    ignore the run's objects; --box and --indices add one to the segments found so far."""
+    if sum(map(bool, (config.auto, config.from_masks, config.box, config.indices))) != 1:
+        raise InputError("give one of --auto, --from-masks DIR, --box x0 y0 z0 x1 y1 z1 or --indices FILE")
+    means = run.gaussians["means"].numpy()
+    out = SegmentsLayout(config.out) if config.out else run.layout.segments
+    device = pick_device(config.device)
+    if config.adds:
+        ids, objects, stats = _add_selection(run, means, config)
+    else:
+        ids, stats = _from_masks(run, means, config, device) if config.from_masks else \
+            propose(means, torch.sigmoid(run.gaussians["opacities"]).numpy(), run.scene.cameras, config)
+        ids = renumber(ids, config.min_gaussians)
+        objects = [SceneObject(int(i), f"object_{i}", False) for i in range(1, int(ids.max(initial=0)) + 1)]
+    if not objects:
+        raise InputError(f"no object found in {run.root} ({stats}): check the masks (0 = unlabelled), or "
+                         "select one with --box or --indices")
+    masks = instance_masks(run.gaussians, ids, run.scene.cameras, run.sh_degree, device)
+    with atomic_output_dir(out.root, replace=config.adds) as tmp:
+        target = SegmentsLayout(tmp)
+        np.save(target.ids, ids.astype(np.uint8))
+        for camera, mask in zip(run.scene.cameras, masks, strict=True):
+            write_png(target.masks / Path(camera.name).with_suffix(".png"), mask)
+        entries = [{**asdict(o), "gaussians": int((ids == o.id).sum()), "box": bounding_box(means[ids == o.id])}
+                   for o in objects]
+        target.objects_json.write_text(json.dumps(entries, indent=1))
+        report = {"config": asdict(config), **stats, "objects": len(objects)}
+        target.report.write_text(json.dumps(report, indent=1))
+    emit("done", stage="segment", out=str(out.root), objects=len(objects))
+    return report
+
+
+def _from_masks(run, means: np.ndarray, config: SegmentConfig, device: torch.device) -> tuple[np.ndarray, dict]:
+    scene: Scene = run.scene
+    views = scene.train
+    folder = Path(config.from_masks)
+    if not folder.is_dir():
+        raise InputError(f"mask folder {folder} does not exist: give per-view PNGs named like the images")
+    masks = [read_png(folder / Path(scene.cameras[i].name).with_suffix(".png"), kind="mask") for i in views]
+    cameras = [scene.cameras[i] for i in views]
+    progress = Progress("segment: depth", len(views))
+    depths = []
+    for k, picture in enumerate(render_pictures(run.gaussians, cameras, run.sh_degree, device)):
+        depths.append(picture.depth)
+        progress.update(k + 1)
+    progress.close()
+    return lift_masks(means, cameras, masks, depths, config.rel_tol, config.join)
+
+
+def _add_selection(run, means: np.ndarray, config: SegmentConfig
+                   ) -> tuple[np.ndarray, list[SceneObject], dict]:
+    """The segments so far with the selected Gaussians as one more object (they leave any other)."""
+    chosen = inside_box(means, config.box) if config.box else _read_indices(Path(config.indices), len(means))
+    ids, objects = np.zeros(len(means), np.int64), []
+    if run.layout.segments.ids.is_file():
+        ids, objects = np.load(run.layout.segments.ids).astype(np.int64), read_segment_objects(run.layout)
+    new = max([o.id for o in objects], default=0) + 1
+    if new > MAX_OBJECTS:
+        raise InputError(f"{run.layout.segments.root} holds {len(objects)} objects, the most a run can: "
+                         "delete it and select again")
+    name = config.name or f"object_{new}"
+    if name in {o.name for o in objects}:
+        raise InputError(f"{run.layout.segments.objects_json} already has an object named {name!r}: "
+                         "give another --name")
+    ids[chosen] = new
+    objects = [o for o in objects if (ids == o.id).any()] + [SceneObject(new, name, False)]
+    return ids, objects, {"selected": int(chosen.sum())}
+
+
+def _read_indices(path: Path, count: int) -> np.ndarray:
+    """(count,) bool from a .npy or whitespace-separated text file of Gaussian indices."""
+    try:
+        values = np.load(path) if path.suffix == ".npy" else np.loadtxt(path, dtype=np.int64, ndmin=1)
+    except (OSError, ValueError) as exc:
+        raise InputError(f"cannot read Gaussian indices from {path} ({exc}); give a .npy or a text file of "
+                         "integers") from exc
+    values = np.asarray(values).ravel()
+    if values.dtype.kind not in "iu" or not len(values) or values.min() < 0 or values.max() >= count:
+        raise InputError(f"{path} must hold Gaussian indices between 0 and {count - 1} (the run has {count})")
+    chosen = np.zeros(count, bool)
+    chosen[values] = True
+    return chosen
+
+
+def read_segment_objects(layout) -> list[SceneObject]:
+    """The objects of RUN/segments/objects.json (engine.formats.layout.RunLayout `layout`)."""
+    path = layout.segments.objects_json
+    try:
+        return [SceneObject(int(e["id"]), str(e["name"]), bool(e.get("target", False)))
+                for e in json.loads(path.read_text())]
+    except (OSError, ValueError, TypeError, KeyError) as exc:
+        raise InputError(f"cannot read {path} ({exc}); delete {layout.segments.root} and run "
+                         "`python -m engine segment` again") from exc

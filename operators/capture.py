@@ -1,0 +1,147 @@
+"""A user's own capture in Blender: Import Capture, Find Objects, Object from Selection.
+
+Import Capture makes a run from a COLMAP folder (training it in the engine) or from a .ply trained elsewhere
+plus that folder (`engine import-splat`, no training) and imports its proxies, upright. A capture has no
+object masks, so the proxies are one background object until Find Objects (`engine segment --auto`, or
+`--from-masks` with a folder of 2D masks) groups the Gaussians; Object from Selection turns the proxy points
+selected in Edit Mode, or the bounds of a selected mesh (a cube placed around the object), into one more
+object (`segment --indices` / `--box`). Each re-imports the run grouped by its objects into a new collection,
+so Remove Selected and the rest of the pipeline work as on a generated scene.
+"""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+import bpy
+import numpy as np
+
+from ..addon.formats import layout
+from ..addon.import_scene import engine_matrix
+from .engine_operator import EngineOperator, UserError, done_record
+from .pipeline import import_run_ply, run_collection, stamp
+
+
+class SPLATFILL_OT_import_capture(EngineOperator, bpy.types.Operator):
+    bl_idname = "splatfill.import_capture"
+    bl_label = "Import Capture"
+    bl_description = ("A COLMAP folder (trained in the engine), or a .ply trained elsewhere with its COLMAP "
+                      "folder, as a run whose proxies Blender shows upright")
+    directory: bpy.props.StringProperty(name="COLMAP folder", subtype="DIR_PATH")
+    ply: bpy.props.StringProperty(name="Trained .ply", subtype="FILE_PATH", description="empty: train one")
+    preset: bpy.props.EnumProperty(name="Preset", items=[("default", "default", ""), ("tiny", "tiny", "")])
+    resolution: bpy.props.EnumProperty(name="Resolution", items=[(r, f"1/{r}", "") for r in ("1", "2", "4", "8")])
+
+    def invoke(self, context, event):
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+    def engine_args(self, context, device):
+        scene = Path(bpy.path.abspath(self.directory))
+        self._out = scene.parent / f"{scene.name}-run-{stamp()}"
+        common = ["--scene", str(scene), "--out", str(self._out), "--resolution", self.resolution, "--device", device]
+        if self.ply:
+            return ["import-splat", "--ply", bpy.path.abspath(self.ply), *common]
+        return ["train", "--preset", self.preset, *common]
+
+    def finish(self, context, records):
+        import_run_ply(layout.RunLayout(self._out).point_cloud, self._out.name, splatfill_run=str(self._out))
+        return f"imported {self._out}: Find Objects groups it"
+
+
+class _SegmentOperator(EngineOperator):
+    """Runs `engine segment` on the active proxy's run and re-imports the run grouped by its objects."""
+
+    def segment_args(self, context) -> list[str]:
+        raise NotImplementedError
+
+    def engine_args(self, context, device):
+        self._run = Path(run_collection(context)["splatfill_run"])
+        return ["segment", "--run", str(self._run), *self.segment_args(context), "--device", device]
+
+    def finish(self, context, records):
+        done = done_record(records, "segment")
+        import_run_ply(layout.RunLayout(self._run).point_cloud, f"{self._run.name} objects",
+                       splatfill_run=str(self._run))
+        return f"{done['objects']} objects in {self._run.name}: select one in the Outliner to remove it"
+
+
+class SPLATFILL_OT_find_objects(_SegmentOperator, bpy.types.Operator):
+    bl_idname = "splatfill.find_objects"
+    bl_label = "Find Objects"
+    bl_description = ("Group the active run's Gaussians into objects without ground-truth masks: from the "
+                      "geometry, or from a folder of 2D masks whose ids need not agree across views")
+    masks: bpy.props.StringProperty(name="Mask folder", subtype="DIR_PATH", description="empty: automatic")
+
+    def invoke(self, context, event):
+        return context.window_manager.invoke_props_dialog(self)
+
+    def segment_args(self, context):
+        return ["--from-masks", bpy.path.abspath(self.masks)] if self.masks else ["--auto"]
+
+
+class SPLATFILL_OT_object_from_selection(_SegmentOperator, bpy.types.Operator):
+    bl_idname = "splatfill.object_from_selection"
+    bl_label = "Object from Selection"
+    bl_description = ("The proxy points selected in Edit Mode, or the bounds of the selected mesh that is not "
+                      "a proxy, become one more object of the run")
+    name: bpy.props.StringProperty(name="Name", default="")
+
+    def segment_args(self, context):
+        if context.mode == "EDIT_MESH":
+            bpy.ops.object.mode_set(mode="OBJECT")  # selection flags reach the mesh data on leaving Edit Mode
+        chosen = selected_gaussians(context.selected_objects or [context.active_object])
+        name = ["--name", self.name] if self.name else []
+        if len(chosen):
+            path = Path(tempfile.mkdtemp(prefix="splatfill-selection-")) / "indices.txt"
+            np.savetxt(path, chosen, fmt="%d")
+            return ["--indices", str(path), *name]
+        frame = next((o for o in run_collection(context).objects if "splatfill_frame" in o), None)
+        box = selection_box([o for o in context.selected_objects if "splatfill_group" not in o], frame)
+        if box is None:
+            raise UserError("select proxy points in Edit Mode, or a mesh (a cube) around the object")
+        return ["--box", *map(str, box), *name]
+
+
+def selected_gaussians(objects: list[bpy.types.Object]) -> np.ndarray:
+    """Indices of the Gaussians whose proxy points are selected (the `gaussian` point attribute)."""
+    chosen = []
+    for obj in objects:
+        if obj is None or "splatfill_group" not in obj or "gaussian" not in obj.data.attributes:
+            continue
+        mesh = obj.data
+        flags = np.zeros(len(mesh.vertices), bool)
+        mesh.vertices.foreach_get("select", flags)
+        index = np.zeros(len(mesh.vertices), np.int32)
+        mesh.attributes["gaussian"].data.foreach_get("value", index)
+        chosen.append(index[flags])
+    return np.unique(np.concatenate(chosen)) if chosen else np.zeros(0, np.int64)
+
+
+def selection_box(objects: list[bpy.types.Object], frame: bpy.types.Object | None) -> list[float] | None:
+    """x0 y0 z0 x1 y1 z1 around the selected meshes' bounds, in the engine's world (the run's upright
+    `frame` undone)."""
+    corners = []
+    for obj in objects:
+        if obj.type != "MESH":
+            continue
+        local = np.array([list(c) + [1.0] for c in obj.bound_box])
+        corners.append((local @ engine_matrix(obj, frame).T)[:, :3])
+    if not corners:
+        return None
+    points = np.concatenate(corners)
+    return [*points.min(0).tolist(), *points.max(0).tolist()]
+
+
+CLASSES = (SPLATFILL_OT_import_capture, SPLATFILL_OT_find_objects, SPLATFILL_OT_object_from_selection)
+
+
+def register() -> None:
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+
+
+def unregister() -> None:
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

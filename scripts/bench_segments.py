@@ -1,0 +1,109 @@
+"""Benchmark objects found without ground-truth masks (engine.train.segments) on generated scenes, whose
+exact instance masks are hidden from `segment` and used only to score it.
+
+    python scripts/bench_segments.py --run RUN [--run RUN ...] --results DIR
+    python scripts/bench_segments.py --report        # docs/benchmarks/segments/*.json -> BENCHMARKS.md
+
+Per run: `segment --auto` (geometry only): per ground-truth object the best proposal's mask IoU on the test
+views, the target found (IoU >= 0.5) or not, proposals that merge two objects, seconds. Then `--from-masks`
+with the training views' exact masks perturbed as a 2D tool gives them (ids shuffled per view, 10% of the
+segments split or merged): the share of segments associated to the right object, and the target's IoU on
+the test views. Engine Python; GPU for full-size runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))
+from scripts.bench_records import load_records, provenance, save_record, write_section  # noqa: E402
+
+RESULTS = REPO / "docs" / "benchmarks" / "segments"
+
+
+def _masks(folder: Path, names: list[str]):
+    from engine.io.image_io import read_png
+
+    return [read_png(folder / Path(n).with_suffix(".png"), kind="mask") for n in names]
+
+
+def measure(run_dir: Path, work: Path, seed: int = 0) -> dict:
+    import numpy as np
+
+    from engine.io.image_io import write_png
+    from engine.metrics.segment_scores import association_accuracy, perturb_masks, proposal_scores
+    from engine.train.segments import SegmentConfig, run_segment
+    from engine.train.trained_run import load_run
+
+    run = load_run(run_dir)
+    scene = run.scene
+    test = [scene.cameras[i].name for i in scene.test]
+    truth_test = [scene.masks[i] for i in scene.test]
+    ids = [o.id for o in scene.objects]
+    start = time.perf_counter()
+    auto = run_segment(run, SegmentConfig(run=str(run_dir), auto=True, out=str(work / "auto")))
+    seconds = time.perf_counter() - start
+    scores = proposal_scores(_masks(work / "auto" / "masks", test), truth_test, ids)
+    names = {o.id: o.name for o in scene.objects}
+    record = {"scene": scene.root.name, "gaussians": len(run.gaussians["means"]), "views": len(scene.cameras),
+              "size": [scene.cameras[0].width, scene.cameras[0].height], "target": scene.target.name,
+              "auto": {"seconds": round(seconds, 1), "proposals": auto["objects"], "planes": auto.get("planes"),
+                       "merges": scores["merges"], "target_iou": scores["objects"][scene.target.id]["iou"],
+                       "objects": {names[g]: s["iou"] for g, s in scores["objects"].items()}}}
+    given, owners = perturb_masks([scene.masks[i] for i in scene.train], np.random.default_rng(seed))
+    for i, mask in zip(scene.train, given, strict=True):
+        write_png(work / "given" / Path(scene.cameras[i].name).with_suffix(".png"), mask)
+    start = time.perf_counter()
+    lifted = run_segment(run, SegmentConfig(run=str(run_dir), from_masks=str(work / "given"), out=str(work / "lift")))
+    seconds = time.perf_counter() - start
+    train_names = [scene.cameras[i].name for i in scene.train]
+    found = _masks(work / "lift" / "masks", train_names)
+    lifted_scores = proposal_scores(_masks(work / "lift" / "masks", test), truth_test, ids)
+    record["masks"] = {"seconds": round(seconds, 1), "segments": lifted["segments"], "objects": lifted["objects"],
+                       "association": round(association_accuracy(given, owners, found), 4),
+                       "target_iou": lifted_scores["objects"][scene.target.id]["iou"]}
+    return record
+
+
+def run_bench(args: argparse.Namespace) -> None:
+    for run in args.run:
+        with tempfile.TemporaryDirectory() as tmp:
+            record = {**measure(Path(run), Path(tmp)), **provenance()}
+        save_record(Path(args.results), f"{record['scene']}-{Path(run).name}", record)
+
+
+def report() -> None:
+    lines = ["| scene | views, size | Gaussians | auto: proposals | target IoU (test views) | merges | other "
+             "objects' best IoU | seconds | user masks: association | target IoU | seconds | device |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in load_records(RESULTS):
+        a, m = r["auto"], r["masks"]
+        others = ", ".join(f"{k} {v:.2f}" for k, v in a["objects"].items() if k != r["target"])
+        lines.append(f"| {r['scene']} | {r['views']}, {r['size'][0]}x{r['size'][1]} | {r['gaussians']:,} | "
+                     f"{a['proposals']} | {a['target_iou']:.2f} | {a['merges']} | {others} | {a['seconds']} | "
+                     f"{m['association']:.3f} | {m['target_iou']:.2f} | {m['seconds']} | {r['device']} |")
+    commands = sorted({r["command"] for r in load_records(RESULTS)})
+    lines += ["", "Commands: " + "; ".join(f"`{c}`" for c in commands)]
+    write_section("bench_segments", "Objects without ground-truth masks", lines)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--run", nargs="*", default=[], help="training runs of generated scenes")
+    parser.add_argument("--results", default=str(RESULTS))
+    parser.add_argument("--report", action="store_true")
+    args = parser.parse_args()
+    if args.report:
+        report()
+    else:
+        run_bench(args)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,157 @@
+"""Objects for a run without ground-truth masks (engine.train.segments): from a user's masks whose ids do
+not agree across views, or from a 3D box; afterwards `remove --object` works as on a generated scene."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from engine.base.errors import InputError
+from engine.edit.removal import RemovalConfig, run_removal
+from engine.io.image_io import read_png, write_png
+from engine.metrics.segment_scores import association_accuracy, iou, perturb_masks, proposal_scores
+from engine.train.proposals import components, support_planes, voxel_components
+from engine.train.segments import SegmentConfig, lift_masks, run_segment
+from engine.train.trained_run import load_run, load_run_scene
+
+
+@pytest.fixture
+def run_copy(tiny_run: Path, tmp_path: Path) -> Path:
+    """The shared tiny run, copied: segmenting writes RUN/segments/, which changes how the run loads."""
+    copy = tmp_path / "run"
+    shutil.copytree(tiny_run, copy, ignore=shutil.ignore_patterns("checkpoints", "removed", "holes", "inpainted"))
+    return copy
+
+
+def shuffled_masks(run: Path, out: Path, seed: int = 0) -> dict[int, int]:
+    """The scene's instance masks of the training views with the ids permuted per view (as SAM gives them);
+    returns the target's id."""
+    scene = load_run_scene(run)
+    rng = np.random.default_rng(seed)
+    for i in scene.train:
+        table = np.concatenate([[0], rng.permutation(np.arange(1, 256))]).astype(np.uint8)
+        write_png(out / Path(scene.cameras[i].name).with_suffix(".png"), table[scene.masks[i]])
+    return scene.target.id
+
+
+def test_masks_with_ids_shuffled_per_view_give_objects_that_remove_works_on(run_copy: Path, tmp_path: Path):
+    scene = load_run_scene(run_copy)
+    target = shuffled_masks(run_copy, tmp_path / "masks")
+    report = run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), from_masks=str(tmp_path / "masks"),
+                                                           device="cpu"))
+    assert report["objects"] >= 2 and report["joined"] >= 0.7 * report["segments"]
+    segmented = load_run_scene(run_copy)  # the run now loads with the segments' objects and masks
+    objects = {o.name: o.id for o in segmented.objects}
+    # the object that covers the target best, on the views that never gave a mask (the test views)
+    best = max(objects.values(), key=lambda k: np.mean([iou(segmented.masks[i] == k, scene.masks[i] == target)
+                                                         for i in scene.test]))
+    score = np.mean([iou(segmented.masks[i] == best, scene.masks[i] == target) for i in scene.test])
+    assert score >= 0.5, f"target IoU on test views {score:.2f}"
+    name = next(n for n, k in objects.items() if k == best)
+    removal = run_removal(RemovalConfig(run=str(run_copy), object=name, out=str(tmp_path / "removed"), device="cpu"))
+    assert removal["removed"] > 0 and json.loads((tmp_path / "removed" / "removal.json").read_text())["object"]
+
+
+def test_a_box_and_selected_indices_add_named_objects(run_copy: Path, tmp_path: Path):
+    """Blender's Object from Selection: a box, then selected proxy points, each one more object."""
+    means = load_run(run_copy).gaussians["means"].numpy()
+    lo, hi = np.percentile(means, 45, axis=0), np.percentile(means, 55, axis=0)
+    run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), box=[*lo, *hi], name="thing", device="cpu"))
+    picked = np.arange(0, len(means), 7)
+    np.savetxt(tmp_path / "picked.txt", picked, fmt="%d")
+    run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), indices=str(tmp_path / "picked.txt"),
+                                                  device="cpu"))
+    run = load_run(run_copy)
+    assert [o.name for o in run.scene.objects] == ["thing", "object_2"]
+    inside = np.all((means >= lo) & (means <= hi), axis=1)
+    inside[picked] = False  # the later selection took these
+    removal = run_removal(RemovalConfig(run=str(run_copy), object="thing", hull=False, out=str(tmp_path / "r"),
+                                        device="cpu"))
+    assert removal["removed"] == inside.sum()
+    with pytest.raises(InputError, match="already has an object named 'thing'"):
+        run_segment(run, SegmentConfig(run=str(run_copy), box=[*lo, *hi], name="thing", device="cpu"))
+    np.savetxt(tmp_path / "bad.txt", [len(means)], fmt="%d")
+    with pytest.raises(InputError, match="indices between 0 and"):
+        run_segment(run, SegmentConfig(run=str(run_copy), indices=str(tmp_path / "bad.txt"), device="cpu"))
+
+
+def test_auto_finds_the_target_without_masks(run_copy: Path, tmp_path: Path):
+    """Geometry alone (no masks read): the target's best proposal covers it on the test views."""
+    scene = load_run_scene(run_copy)
+    report = run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), auto=True, device="cpu"))
+    found = load_run_scene(run_copy)
+    scores = proposal_scores([found.masks[i] for i in scene.test], [scene.masks[i] for i in scene.test],
+                             [o.id for o in scene.objects])
+    assert report["planes"] >= 1 and scores["objects"][scene.target.id]["iou"] >= 0.6, scores
+    best = scores["objects"][scene.target.id]["found"]
+    removal = run_removal(RemovalConfig(run=str(run_copy), object=str(best), out=str(tmp_path / "r"), device="cpu"))
+    assert removal["removed"] > 0
+
+
+def test_lifting_joins_segments_that_share_gaussians_whatever_their_ids():
+    """Two views of two clusters of points, the ids swapped between the views: two objects, not four."""
+    from engine.formats.cameras import Camera
+
+    rng = np.random.default_rng(0)
+    means = np.concatenate([rng.normal([-0.5, 0, 5], 0.1, (100, 3)), rng.normal([0.5, 0, 5], 0.1, (100, 3))])
+    camera = Camera("0000.png", 64, 48, 60.0, 60.0, 32.0, 24.0, np.eye(3), np.zeros(3))
+    depth = np.full((48, 64), 5.0, np.float32)
+    left = np.zeros((48, 64), np.uint8)
+    left[:, :32] = 7
+    left[:, 32:] = 9
+    right = np.where(left == 7, 3, 4).astype(np.uint8)  # the same two objects under other ids
+    ids, stats = lift_masks(means, [camera, camera], [left, right], [depth, depth], rel_tol=0.1, join=0.5)
+    assert stats["objects_found"] == 2 and stats["joined"] == 2
+    assert len(set(ids[:100])) == 1 and len(set(ids[100:])) == 1 and ids[0] != ids[150]
+
+
+def test_components_join_what_touches_and_nothing_else():
+    label = components(6, np.array([0, 1, 4]), np.array([1, 2, 5]))
+    assert label.tolist() == [0, 0, 0, 3, 4, 4]
+    rng = np.random.default_rng(0)
+    blobs = np.concatenate([rng.uniform(0, 1, (500, 3)), rng.uniform(0, 1, (500, 3)) + [3, 0, 0]])
+    voxel, label, _ = voxel_components(blobs, 0.25)
+    parts = label[voxel]
+    assert len(set(parts[:500])) == 1 and len(set(parts[500:])) == 1 and parts[0] != parts[-1]
+
+
+def test_support_planes_are_found_in_any_frame():
+    """A floor and a table top, tilted 30 degrees and scaled by 0.3 as SfM may give them: both found."""
+    rng = np.random.default_rng(1)
+    floor = np.c_[rng.uniform(-2, 2, (3000, 2)), rng.normal(0, 0.003, 3000)]
+    table = np.c_[rng.uniform(-0.6, 0.6, (1500, 2)), 0.75 + rng.normal(0, 0.003, 1500)]
+    clutter = rng.uniform([-0.3, -0.3, 0.75], [0.3, 0.3, 1.2], (800, 3))
+    c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
+    tilt = np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+    points = 0.3 * np.concatenate([floor, table, clutter]) @ tilt.T
+    up = tilt @ np.array([0.05, 0.0, 1.0]) / np.linalg.norm([0.05, 0, 1])  # the cameras' up, 3 degrees off
+    planes = support_planes(points, up, tol=0.003, share=0.05)
+    heights = sorted(-d / 0.3 for _, d in planes)
+    assert len(planes) == 2 and np.allclose(heights, [0, 0.75], atol=0.01), heights
+    assert all(n @ (tilt @ [0, 0, 1]) > np.cos(np.radians(1)) for n, _ in planes)
+
+
+def test_association_is_scored_against_perturbed_masks():
+    """perturb_masks shuffles and splits/merges; a result that equals the truth scores 1, a shuffled one less."""
+    rng = np.random.default_rng(0)
+    truth = [np.zeros((20, 30), np.uint8) for _ in range(4)]
+    for t in truth:
+        t[2:9, 2:12], t[11:18, 15:28] = 1, 2
+    given, owners = perturb_masks(truth, rng, share=0.5)
+    assert any(set(np.unique(g)) != {0, 1, 2} for g in given)  # something was shuffled, split or merged
+    assert association_accuracy(given, owners, truth) == 1.0
+    swapped = [np.where(t == 1, 2, np.where(t == 2, 1, 0)).astype(np.uint8) for t in truth[:2]] + truth[2:]
+    assert association_accuracy(given, owners, swapped) < 1.0
+    assert iou(truth[0] == 1, truth[0] == 1) == 1.0
+
+
+def test_read_back_masks_are_instance_pngs(run_copy: Path, tmp_path: Path):
+    means = load_run(run_copy).gaussians["means"].numpy()
+    lo, hi = np.percentile(means, 30, axis=0), np.percentile(means, 70, axis=0)
+    run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), box=[*lo, *hi], device="cpu"))
+    mask = read_png(run_copy / "segments" / "masks" / "0000.png", kind="mask")
+    assert mask.dtype == np.uint8 and set(np.unique(mask)) <= {0, 1}
