@@ -29,7 +29,8 @@ def proposal_scores(found: list[np.ndarray], truth: list[np.ndarray], truth_ids:
     for k in np.unique(found_flat):
         if k == 0:
             continue
-        held = [g for g in truth_ids if ((found_flat == k) & (truth_flat == g)).sum() >= 0.5 * (truth_flat == g).sum()]
+        held = [g for g in truth_ids if (truth_flat == g).any()
+                and ((found_flat == k) & (truth_flat == g)).sum() >= 0.5 * (truth_flat == g).sum()]
         merges += len(held) >= 2
     return {"objects": best, "merges": merges}
 

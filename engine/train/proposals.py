@@ -22,16 +22,21 @@ from engine.base.knn import knn
 from engine.formats.cameras import Camera
 
 COARSE = 5  # support planes are first looked for in height bins this many tolerances wide
-NEIGHBOURS = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
-                       if (i, j, k) > (0, 0, 0)])  # half of the 26-neighbourhood: each pair once
+
+
+def neighbours(reach: int) -> np.ndarray:
+    """Voxel offsets within `reach` cells, half of them (each pair of voxels is looked at once)."""
+    steps = range(-reach, reach + 1)
+    return np.array([(i, j, k) for i in steps for j in steps for k in steps if (i, j, k) > (0, 0, 0)])
 
 
 @dataclass
 class ProposalConfig:
     solid: float = 0.5  # opacity a Gaussian needs to shape the geometry
-    plane_tol: float = 0.012  # a Gaussian within this x R of a support plane belongs to it
+    plane_tol: float = 0.02  # a Gaussian within this x R of a support plane belongs to it
     plane_share: float = 0.05  # a plane holds at least this share of the solid Gaussians in the orbit
     voxel: float = 0.01  # connectivity voxel, x R (at least the Gaussians' median spacing)
+    stack_gap: float = 2.0  # a piece resting this many voxels above another's footprint is part of it
     max_width: float = 0.8  # a piece wider than this x R is scenery, not an object
     orbit: float = 1.0  # objects lie within this x R of the look-at point, horizontally
 
@@ -99,14 +104,15 @@ def components(count: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         label = new
 
 
-def voxel_components(points: np.ndarray, size: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Per point, its occupied voxel's index and component; and the voxels' integer keys (V, 3)."""
+def voxel_components(points: np.ndarray, size: float, reach: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per point, its occupied voxel's index and component (voxels up to `reach` cells apart connect); and
+    the voxels' integer keys (V, 3)."""
     cells = np.floor(points / size).astype(np.int64)
     keys, voxel = np.unique(cells, axis=0, return_inverse=True)
     code = _codes(keys)
     order = np.argsort(code)
     a, b = [], []
-    for offset in NEIGHBOURS:
+    for offset in neighbours(reach):
         other = _codes(keys + offset)
         at = np.clip(np.searchsorted(code[order], other), 0, len(code) - 1)
         hit = code[order][at] == other
@@ -114,6 +120,39 @@ def voxel_components(points: np.ndarray, size: float) -> tuple[np.ndarray, np.nd
         b.append(order[at[hit]])
     label = components(len(keys), np.concatenate(a), np.concatenate(b))
     return voxel.ravel(), label, keys
+
+
+def merge_stacked(points: np.ndarray, voxel: np.ndarray, label: np.ndarray, up: np.ndarray, gap: float
+                  ) -> np.ndarray:
+    """Per voxel, its component after joining pieces stacked on one another (a statue's body on its plinth,
+    split where the reconstruction is thin): one lies wholly above the other, at most `gap` higher, and
+    their footprints overlap by half of the smaller one. Pieces side by side (objects on a table) stay apart."""
+    part = label[voxel]
+    ids = np.unique(part)
+    height = points @ up
+    flat = points - np.outer(height, up)
+    basis = np.linalg.svd(np.eye(3) - np.outer(up, up))[0][:, :2]  # two horizontal axes
+    xy = flat @ basis
+    stats = {}
+    for k in ids:
+        sel = part == k
+        stats[k] = (height[sel].min(), height[sel].max(), xy[sel].min(0), xy[sel].max(0))
+    a, b = [], []
+    for i in ids:
+        for j in ids:
+            lo_i, hi_i, min_i, max_i = stats[i]
+            lo_j, hi_j, min_j, max_j = stats[j]
+            if not (lo_j > lo_i and hi_j > hi_i and abs(lo_j - hi_i) <= gap):  # j rests on i
+                continue
+            overlap = np.prod(np.clip(np.minimum(max_i, max_j) - np.maximum(min_i, min_j), 0, None))
+            smaller = min(np.prod(max_i - min_i), np.prod(max_j - min_j))
+            if smaller > 0 and overlap >= 0.5 * smaller:
+                a.append(i)
+                b.append(j)
+    if not a:
+        return label
+    joined = components(len(label), np.array(a), np.array(b))
+    return joined[label]
 
 
 def _codes(keys: np.ndarray) -> np.ndarray:
@@ -130,19 +169,21 @@ def propose(means: np.ndarray, opacity: np.ndarray, cameras: list[Camera], confi
     horizontal = np.linalg.norm(offset - np.outer(offset @ frame.up, frame.up), axis=1)
     near = horizontal <= config.orbit * r
     solid = near & (opacity >= config.solid)
-    planes = support_planes(means[solid], frame.up, config.plane_tol * r, config.plane_share)
+    tol = config.plane_tol * r
+    planes = support_planes(means[solid], frame.up, tol, config.plane_share)
     if planes:
         lowest = min(-d for _, d in planes)
-        on_plane = np.any([np.abs(means @ n + d) < config.plane_tol * r for n, d in planes], axis=0)
-        candidate = near & ~on_plane & (means @ frame.up > lowest + config.plane_tol * r)
+        on_plane = np.any([np.abs(means @ n + d) < tol for n, d in planes], axis=0)
+        candidate = near & ~on_plane & (means @ frame.up > lowest + tol)
     else:
         candidate = near
     ids = np.zeros(len(means), np.int64)
     seeds = np.flatnonzero(candidate & solid)
     if len(seeds) == 0:
         return ids, {"planes": len(planes), "proposals": 0, "radius": r}
-    size = max(config.voxel * r, spacing(means[seeds]))
+    size = max(config.voxel * r, spacing(means[seeds]))  # a sparse reconstruction needs coarser voxels
     voxel, label, keys = voxel_components(means[seeds], size)
+    label = merge_stacked(means[seeds], voxel, label, frame.up, config.stack_gap * size)
     width = _component_widths(means[seeds], label[voxel], frame.up)
     keep = width <= config.max_width * r
     part = np.where(keep[label], label + 1, 0)  # per voxel, its component + 1, or 0

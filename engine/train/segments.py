@@ -28,6 +28,7 @@ import json
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+import cv2
 import numpy as np
 import torch
 
@@ -42,6 +43,7 @@ from engine.io.extent import bounding_box, inside_box
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import read_png, write_png
 from engine.io.scene import Scene, SceneObject
+from engine.pictures.preview import colorize_ids, label
 from engine.render.rasterize import CameraTensors, render
 from engine.render.render_views import render_pictures
 from engine.train.proposals import ProposalConfig, propose
@@ -64,6 +66,9 @@ class SegmentConfig(ProposalConfig):
     out: str = ""  # default RUN/segments
     device: str = "auto"
 
+    def __post_init__(self) -> None:
+        self.box = [float(v) for v in self.box]  # saved in segments.json
+
     @property
     def adds(self) -> bool:
         """--box and --indices add one object to the run's segments; --auto and --from-masks make them anew."""
@@ -83,10 +88,10 @@ def lift_masks(means: np.ndarray, cameras: list[Camera], masks: list[np.ndarray]
         local, _ = sample_nearest(mask, u, v)
         seen = inside & (z > 0) & (np.abs(z - seen_depth) <= rel_tol * np.abs(z))
         objects = np.zeros(n, np.int64)
-        for label in np.unique(local[seen]):
-            if label == 0:
+        for given in np.unique(local[seen]):
+            if given == 0:
                 continue
-            members = np.flatnonzero(seen & (local == label))
+            members = np.flatnonzero(seen & (local == given))
             known = current[members][current[members] > 0]
             segments += 1
             if len(known):
@@ -181,6 +186,7 @@ def run_segment(run, config: SegmentConfig) -> dict:
         target.objects_json.write_text(json.dumps(entries, indent=1))
         report = {"config": asdict(config), **stats, "objects": len(objects)}
         target.report.write_text(json.dumps(report, indent=1))
+        write_png(target.sheet, segments_sheet(run.scene, masks, objects))
     emit("done", stage="segment", out=str(out.root), objects=len(objects))
     return report
 
@@ -200,6 +206,23 @@ def _from_masks(run, means: np.ndarray, config: SegmentConfig, device: torch.dev
         progress.update(k + 1)
     progress.close()
     return lift_masks(means, cameras, masks, depths, config.rel_tol, config.join)
+
+
+def segments_sheet(scene: Scene, masks: list[np.ndarray], objects: list[SceneObject], views: int = 4
+                   ) -> np.ndarray:
+    """Four views around the scene: the image, and each object tinted and named where it shows."""
+    rows = []
+    for i in np.linspace(0, len(scene.cameras) - 1, min(views, len(scene.cameras))).astype(int):
+        tinted = (0.45 * scene.images[i] + 0.55 * colorize_ids(masks[i])).astype(np.uint8)
+        tinted = np.where(masks[i][..., None] > 0, tinted, scene.images[i] // 2)
+        for o in objects:
+            rows_, cols = np.nonzero(masks[i] == o.id)
+            if len(rows_) > 20:
+                at = (int(np.median(cols)), int(np.median(rows_)))
+                cv2.putText(tinted, o.name, at, cv2.FONT_HERSHEY_SIMPLEX, max(tinted.shape[1] / 800, 0.3),
+                            (255, 255, 255), 1, cv2.LINE_AA)
+        rows.append(np.concatenate([label(scene.images[i], scene.names[i]), label(tinted, "objects")], axis=1))
+    return np.concatenate(rows, axis=0)
 
 
 def _add_selection(run, means: np.ndarray, config: SegmentConfig
