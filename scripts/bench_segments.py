@@ -14,6 +14,7 @@ the test views. Engine Python; GPU for full-size runs.
 from __future__ import annotations
 
 import argparse
+import shutil
 import sys
 import tempfile
 import time
@@ -32,7 +33,7 @@ def _masks(folder: Path, names: list[str]):
     return [read_png(folder / Path(n).with_suffix(".png"), kind="mask") for n in names]
 
 
-def measure(run_dir: Path, work: Path, seed: int = 0) -> dict:
+def measure(run_dir: Path, work: Path, pictures: Path, seed: int = 0) -> dict:
     import numpy as np
 
     from engine.io.image_io import write_png
@@ -49,6 +50,8 @@ def measure(run_dir: Path, work: Path, seed: int = 0) -> dict:
     auto = run_segment(run, SegmentConfig(run=str(run_dir), auto=True, out=str(work / "auto")))
     seconds = time.perf_counter() - start
     scores = proposal_scores(_masks(work / "auto" / "masks", test), truth_test, ids)
+    pictures.mkdir(parents=True, exist_ok=True)
+    shutil.copy(work / "auto" / "sheet.png", pictures / f"{scene.root.name}-auto.png")
     names = {o.id: o.name for o in scene.objects}
     record = {"scene": scene.root.name, "gaussians": len(run.gaussians["means"]), "views": len(scene.cameras),
               "size": [scene.cameras[0].width, scene.cameras[0].height], "target": scene.target.name,
@@ -73,7 +76,7 @@ def measure(run_dir: Path, work: Path, seed: int = 0) -> dict:
 def run_bench(args: argparse.Namespace) -> None:
     for run in args.run:
         with tempfile.TemporaryDirectory() as tmp:
-            record = {**measure(Path(run), Path(tmp)), **provenance()}
+            record = {**measure(Path(run), Path(tmp), Path(args.results) / "pictures"), **provenance()}
         save_record(Path(args.results), f"{record['scene']}-{Path(run).name}", record)
 
 

@@ -35,6 +35,7 @@ class ProposalConfig:
     solid: float = 0.5  # opacity a Gaussian needs to shape the geometry
     plane_tol: float = 0.02  # a Gaussian within this x R of a support plane belongs to it
     plane_share: float = 0.05  # a plane holds at least this share of the solid Gaussians in the orbit
+    plane_radius: float = 0.25  # ... spread at least this x R around its centre (90th percentile)
     voxel: float = 0.01  # connectivity voxel, x R (at least the Gaussians' median spacing)
     stack_gap: float = 2.0  # a piece resting this many voxels above another's footprint is part of it
     max_width: float = 0.8  # a piece wider than this x R is scenery, not an object
@@ -60,11 +61,13 @@ def camera_frame(cameras: list[Camera]) -> Frame:
     return Frame(center, float(np.median(np.linalg.norm(centres - center, axis=1))), up / np.linalg.norm(up))
 
 
-def support_planes(points: np.ndarray, up: np.ndarray, tol: float, share: float, most: int = 4
-                   ) -> list[tuple[np.ndarray, float]]:
+def support_planes(points: np.ndarray, up: np.ndarray, tol: float, share: float, min_radius: float = 0.0,
+                   most: int = 4) -> list[tuple[np.ndarray, float]]:
     """Horizontal planes (unit normal n, offset d, n.p + d = 0) that hold at least `share` of `points`
-    within `tol`. SfM's up is only roughly up, which smears a wide floor over many heights: peaks are looked
-    for in bins of COARSE x tol, then each normal is refitted by least squares to a band narrowing to tol."""
+    within `tol` and spread at least `min_radius` around their centre (a large round object's horizontal
+    slice holds many points too, but is no wider than the object). SfM's up is only roughly up, which
+    smears a wide floor over many heights: peaks are looked for in bins of COARSE x tol, then each normal
+    is refitted by least squares to a band narrowing to tol."""
     heights = points @ up
     lo, hi = np.percentile(heights, [0.5, 99.5]) if len(points) else (0.0, 0.0)
     counts, edges = np.histogram(heights, bins=max(int((hi - lo) / (COARSE * tol)), 1), range=(lo, hi))
@@ -81,9 +84,11 @@ def support_planes(points: np.ndarray, up: np.ndarray, tol: float, share: float,
             normal = np.linalg.svd(band - mean, full_matrices=False)[2][-1]
             normal = normal if normal @ up > 0 else -normal
             offset = float(-normal @ mean)
-        held = np.abs(points @ normal + offset) < tol
+        held = points[np.abs(points @ normal + offset) < tol]
         seen = any(abs(offset - d) < COARSE * tol for _, d in planes)
-        if normal @ up > np.cos(np.radians(20)) and held.sum() >= share * len(points) and not seen:
+        spread = np.percentile(np.linalg.norm(held - held.mean(0), axis=1), 90) if len(held) else 0.0
+        if (normal @ up > np.cos(np.radians(20)) and len(held) >= share * len(points) and not seen
+                and spread >= min_radius):
             planes.append((normal, offset))
     return planes
 
@@ -170,7 +175,7 @@ def propose(means: np.ndarray, opacity: np.ndarray, cameras: list[Camera], confi
     near = horizontal <= config.orbit * r
     solid = near & (opacity >= config.solid)
     tol = config.plane_tol * r
-    planes = support_planes(means[solid], frame.up, tol, config.plane_share)
+    planes = support_planes(means[solid], frame.up, tol, config.plane_share, config.plane_radius * r)
     if planes:
         lowest = min(-d for _, d in planes)
         on_plane = np.any([np.abs(means @ n + d) < tol for n, d in planes], axis=0)
@@ -183,7 +188,8 @@ def propose(means: np.ndarray, opacity: np.ndarray, cameras: list[Camera], confi
         return ids, {"planes": len(planes), "proposals": 0, "radius": r}
     size = max(config.voxel * r, spacing(means[seeds]))  # a sparse reconstruction needs coarser voxels
     voxel, label, keys = voxel_components(means[seeds], size)
-    label = merge_stacked(means[seeds], voxel, label, frame.up, config.stack_gap * size)
+    gap = max(config.stack_gap * size, 2.5 * tol)  # what a plane's band may have cut out of an object
+    label = merge_stacked(means[seeds], voxel, label, frame.up, gap)
     width = _component_widths(means[seeds], label[voxel], frame.up)
     keep = width <= config.max_width * r
     part = np.where(keep[label], label + 1, 0)  # per voxel, its component + 1, or 0
