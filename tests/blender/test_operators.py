@@ -139,3 +139,44 @@ def test_the_inpaint_and_complete_menus_list_the_engines_plugins(package, monkey
     methods = {item[0] for item in pipeline._plugin_items("methods")}
     assert {"telea", "fsr", "exemplar", "lama"} <= inpainters and "nanobanana" not in inpainters
     assert methods == {"init", "ft"}  # direct reads `inpaint --source input`, which no operator writes
+
+
+def test_find_objects_and_object_from_selection_group_a_run_without_objects(run: Path, registered, tmp_path: Path):
+    """A copy of the run stands for a capture: Find Objects from a mask folder, then a cube placed around
+    part of the scene and then proxy points selected in Edit Mode each become one more named object."""
+    import shutil
+
+    copy = tmp_path / "capture-run"
+    shutil.copytree(run, copy, ignore=shutil.ignore_patterns("checkpoints", "removed*"))
+    scene = Path(json.loads((run / "config.json").read_text())["scene"])
+    assert bpy.ops.splatfill.import_splats(filepath=str(copy / "point_cloud.ply")) == {"FINISHED"}
+    bpy.context.view_layer.objects.active = bpy.data.collections[copy.name].objects[0]
+    assert bpy.ops.splatfill.find_objects(masks=str(scene / "masks")) == {"FINISHED"}
+    found = bpy.data.collections[f"{copy.name} objects"]
+    entries = json.loads((copy / "segments" / "objects.json").read_text())
+    assert {e["name"] for e in entries} <= set(found.objects.keys()) and len(entries) >= 2
+
+    box = entries[0]["box"]  # a cube around the first object's box, placed by hand in Blender
+    bpy.ops.mesh.primitive_cube_add(location=[(box[i] + box[i + 3]) / 2 for i in range(3)])
+    cube = bpy.context.active_object
+    cube.scale = [(box[i + 3] - box[i]) / 2 for i in range(3)]
+    bpy.context.view_layer.update()
+    for obj in bpy.context.view_layer.objects:
+        obj.select_set(obj == cube)
+    bpy.context.view_layer.objects.active = found.objects[0]
+    assert bpy.ops.splatfill.object_from_selection(name="boxed") == {"FINISHED"}
+    assert "boxed" in {e["name"] for e in json.loads((copy / "segments" / "objects.json").read_text())}
+
+    proxy = bpy.data.objects["boxed"]  # the latest import (each import makes a new collection)
+    flags = np.zeros(len(proxy.data.vertices), bool)
+    flags[:5] = True
+    proxy.data.vertices.foreach_set("select", flags)
+    index = np.zeros(len(proxy.data.vertices), np.int32)
+    proxy.data.attributes["gaussian"].data.foreach_get("value", index)
+    for obj in bpy.context.view_layer.objects:
+        obj.select_set(obj == proxy)
+    bpy.context.view_layer.objects.active = proxy
+    assert bpy.ops.splatfill.object_from_selection(name="picked") == {"FINISHED"}
+    ids = np.load(copy / "segments" / "ids.npy")
+    picked = next(e for e in json.loads((copy / "segments" / "objects.json").read_text()) if e["name"] == "picked")
+    assert picked["gaussians"] == 5 and set(ids[index[:5]]) == {picked["id"]}

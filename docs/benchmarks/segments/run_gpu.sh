@@ -7,6 +7,7 @@
 set -u
 runs=$1 results=$2; shift 2
 mkdir -p "$runs" "$results"
+python3 -c "from gsplat.cuda._backend import _C" || exit 1  # build gsplat once, before the runs share it
 for scene in "$@"; do
   name=$(basename "$scene")
   [ -f "$runs/$name/metrics.json" ] || python3 -m engine train --scene "$scene" --out "$runs/$name" \
