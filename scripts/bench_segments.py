@@ -27,13 +27,14 @@ from scripts.bench_records import load_records, provenance, save_record, write_s
 RESULTS = REPO / "docs" / "benchmarks" / "segments"
 
 
+
 def _masks(folder: Path, names: list[str]):
     from engine.io.image_io import read_png
 
     return [read_png(folder / Path(n).with_suffix(".png"), kind="mask") for n in names]
 
 
-def measure(run_dir: Path, work: Path, pictures: Path, seed: int = 0) -> dict:
+def measure(run_dir: Path, work: Path, pictures: Path, solid: float, seed: int = 0) -> dict:
     import numpy as np
 
     from engine.io.image_io import write_png
@@ -47,15 +48,16 @@ def measure(run_dir: Path, work: Path, pictures: Path, seed: int = 0) -> dict:
     truth_test = [scene.masks[i] for i in scene.test]
     ids = [o.id for o in scene.objects]
     start = time.perf_counter()
-    auto = run_segment(run, SegmentConfig(run=str(run_dir), auto=True, out=str(work / "auto")))
+    auto = run_segment(run, SegmentConfig(run=str(run_dir), auto=True, solid=solid, out=str(work / "auto")))
     seconds = time.perf_counter() - start
     scores = proposal_scores(_masks(work / "auto" / "masks", test), truth_test, ids)
     pictures.mkdir(parents=True, exist_ok=True)
-    shutil.copy(work / "auto" / "sheet.png", pictures / f"{scene.root.name}-auto.png")
+    shutil.copy(work / "auto" / "sheet.png", pictures / f"{scene.root.name}-auto-solid{solid:g}.png")
     names = {o.id: o.name for o in scene.objects}
     record = {"scene": scene.root.name, "gaussians": len(run.gaussians["means"]), "views": len(scene.cameras),
               "size": [scene.cameras[0].width, scene.cameras[0].height], "target": scene.target.name,
-              "auto": {"seconds": round(seconds, 1), "proposals": auto["objects"], "planes": auto.get("planes"),
+              "auto": {"seconds": round(seconds, 1), "proposals": auto["objects"], "planes": auto.get("plane_heights"),
+                       "solid": solid,
                        "merges": scores["merges"], "target_iou": scores["objects"][scene.target.id]["iou"],
                        "objects": {names[g]: s["iou"] for g, s in scores["objects"].items()}}}
     given, owners = perturb_masks([scene.masks[i] for i in scene.train], np.random.default_rng(seed))
@@ -74,10 +76,13 @@ def measure(run_dir: Path, work: Path, pictures: Path, seed: int = 0) -> dict:
 
 
 def run_bench(args: argparse.Namespace) -> None:
+    from engine.train.proposals import ProposalConfig
+
+    args.solid = ProposalConfig.solid if args.solid is None else args.solid
     for run in args.run:
         with tempfile.TemporaryDirectory() as tmp:
-            record = {**measure(Path(run), Path(tmp), Path(args.results) / "pictures"), **provenance()}
-        save_record(Path(args.results), f"{record['scene']}-{Path(run).name}", record)
+            record = {**measure(Path(run), Path(tmp), Path(args.results) / "pictures", args.solid), **provenance()}
+        save_record(Path(args.results), f"{record['scene']}-solid{args.solid:g}", record)
 
 
 def report() -> None:
@@ -99,6 +104,7 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--run", nargs="*", default=[], help="training runs of generated scenes")
     parser.add_argument("--results", default=str(RESULTS))
+    parser.add_argument("--solid", type=float, help="segment --solid (default: segment's)")
     parser.add_argument("--report", action="store_true")
     args = parser.parse_args()
     if args.report:

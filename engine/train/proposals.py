@@ -194,14 +194,14 @@ def propose(means: np.ndarray, opacity: np.ndarray, cameras: list[Camera], confi
     keep = width <= config.max_width * r
     part = np.where(keep[label], label + 1, 0)  # per voxel, its component + 1, or 0
     ids[seeds] = part[voxel]
-    faint = np.flatnonzero(candidate & ~solid)  # joins the object whose voxel it lies in
-    cells = np.floor(means[faint] / size).astype(np.int64)
-    code, order = _codes(keys), np.argsort(_codes(keys))
-    at = np.clip(np.searchsorted(code[order], _codes(cells)), 0, len(code) - 1)
-    hit = code[order][at] == _codes(cells)
-    ids[faint[hit]] = part[order[at[hit]]]
-    return ids, {"planes": len(planes), "proposals": int(len(np.unique(ids)) - (ids == 0).any()),
-                 "radius": round(r, 4), "voxel": round(size, 5)}
+    faint = np.flatnonzero(candidate & ~solid)  # joins the object of the nearest solid Gaussian, if near
+    if len(faint):
+        distance, nearest = knn(torch.as_tensor(means[faint]), torch.as_tensor(means[seeds]), 1)
+        close = (distance[:, 0] <= 2 * size).numpy()
+        ids[faint[close]] = ids[seeds][nearest[close, 0].numpy()]
+    heights = sorted(round(float(-d - frame.center @ n) / r, 3) for n, d in planes)
+    return ids, {"planes": len(planes), "plane_heights": heights, "radius": round(r, 4), "voxel": round(size, 5),
+                 "proposals": int(len(np.unique(ids)) - (ids == 0).any())}
 
 
 def spacing(points: np.ndarray, sample: int = 2000) -> float:
