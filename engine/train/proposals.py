@@ -32,11 +32,11 @@ def neighbours(reach: int) -> np.ndarray:
 
 @dataclass
 class ProposalConfig:
-    solid: float = 0.5  # opacity a Gaussian needs to shape the geometry
+    solid: float = 0.2  # opacity a Gaussian needs to shape the geometry
     plane_tol: float = 0.02  # a Gaussian within this x R of a support plane belongs to it
     plane_share: float = 0.05  # a plane holds at least this share of the solid Gaussians in the orbit
     plane_radius: float = 0.25  # ... spread at least this x R around its centre (90th percentile)
-    voxel: float = 0.01  # connectivity voxel, x R (at least the Gaussians' median spacing)
+    voxel: float = 0.02  # connectivity voxel, x R (at least the Gaussians' median spacing)
     stack_gap: float = 2.0  # a piece resting this many voxels above another's footprint is part of it
     max_width: float = 0.8  # a piece wider than this x R is scenery, not an object
     orbit: float = 1.0  # objects lie within this x R of the look-at point, horizontally
