@@ -65,17 +65,36 @@ def test_a_distorted_capture_loads_undistorted_and_matches_the_pinhole_view(tmp_
     assert load_scene(root).root == scene.root  # the cache is reused
 
 
-def test_fisheye_and_aligned_folders_are_refused_with_the_fix(tmp_path: Path, monkeypatch):
+def test_fisheye_is_refused_with_the_fix(tmp_path: Path, monkeypatch):
     monkeypatch.setenv("SPLATFILL_CACHE", str(tmp_path / "cache"))
     fisheye = tmp_path / "fisheye"
     write_capture(fisheye, "OPENCV_FISHEYE", f"{F} {F} {CX} {CY} 0 0 0 0", radial_image(0.0))
     with pytest.raises(InputError, match="OPENCV_FISHEYE cameras, which splatfill cannot undistort"):
         load_scene(fisheye)
-    masked = tmp_path / "masked"
-    write_capture(masked, "SIMPLE_RADIAL", f"{F} {CX} {CY} -0.25", radial_image(-0.25))
-    (masked / "masks").mkdir()
-    with pytest.raises(InputError, match="masks/ beside distorted cameras"):
-        load_scene(masked)
+
+
+@pytest.mark.parametrize("model, params", [("SIMPLE_RADIAL", f"{F} {CX} {CY} -0.25"),
+                                           ("OPENCV", f"{F} {F} {CX} {CY} -0.25 0 0.002 -0.001")])
+def test_folders_aligned_with_distorted_images_are_undistorted_with_them(tmp_path: Path, monkeypatch, model,
+                                                                         params):
+    """masks/ (ids, nearest) and gt/ (colours, bilinear) land where pycolmap put the images: before, such a
+    capture was refused (a generator's scene through SfM keeps its gt/ for scoring)."""
+    monkeypatch.setenv("SPLATFILL_CACHE", str(tmp_path / "cache"))
+    root = tmp_path / "capture"
+    image = radial_image(-0.25)
+    write_capture(root, model, params, image)
+    (root / "masks").mkdir()
+    (root / "gt").mkdir()
+    for k in range(3):
+        cv2.imwrite(str(root / "masks" / f"{k:04d}.png"), np.where(image[..., 0] > 128, 5, 0).astype(np.uint8))
+        cv2.imwrite(str(root / "gt" / f"{k:04d}.png"), image[..., ::-1])
+    scene = load_scene(root)
+    inner = (slice(4, -4), slice(4, -4))
+    gt_error = np.abs(scene.gt_images[0].astype(float) - scene.images[0])[inner].mean()
+    assert gt_error < 1.0, f"gt/ against pycolmap's undistorted image: {gt_error:.2f} / 255"
+    assert set(np.unique(scene.masks[0])) <= {0, 5}
+    agree = (scene.masks[0] == 5) == (scene.images[0][..., 0] > 128)
+    assert agree[inner].mean() > 0.97
 
 
 def test_resolution_loads_the_scene_at_a_fraction_with_consistent_cameras(tmp_path: Path, monkeypatch):
