@@ -28,15 +28,18 @@ RESULTS = REPO / "docs" / "benchmarks" / "segments"
 
 
 
-def _masks(folder: Path, names: list[str]):
+def _masks(segments: Path, names: list[str]):
+    """The instance masks `segment` wrote into the segments folder `segments`, for these image names."""
+    from engine.formats.layout import SegmentsLayout
     from engine.io.image_io import read_png
 
-    return [read_png(folder / Path(n).with_suffix(".png"), kind="mask") for n in names]
+    return [read_png(SegmentsLayout(segments).masks / Path(n).with_suffix(".png"), kind="mask") for n in names]
 
 
 def measure(run_dir: Path, work: Path, pictures: Path, solid: float, seed: int = 0) -> dict:
     import numpy as np
 
+    from engine.formats.layout import SegmentsLayout
     from engine.io.image_io import write_png
     from engine.metrics.segment_scores import association_accuracy, perturb_masks, proposal_scores
     from engine.train.segments import SegmentConfig, run_segment
@@ -50,9 +53,9 @@ def measure(run_dir: Path, work: Path, pictures: Path, solid: float, seed: int =
     start = time.perf_counter()
     auto = run_segment(run, SegmentConfig(run=str(run_dir), auto=True, solid=solid, out=str(work / "auto")))
     seconds = time.perf_counter() - start
-    scores = proposal_scores(_masks(work / "auto" / "masks", test), truth_test, ids)
+    scores = proposal_scores(_masks(work / "auto", test), truth_test, ids)
     pictures.mkdir(parents=True, exist_ok=True)
-    shutil.copy(work / "auto" / "sheet.png", pictures / f"{scene.root.name}-auto-solid{solid:g}.png")
+    shutil.copy(SegmentsLayout(work / "auto").sheet, pictures / f"{scene.root.name}-auto-solid{solid:g}.png")
     names = {o.id: o.name for o in scene.objects}
     record = {"scene": scene.root.name, "gaussians": len(run.gaussians["means"]), "views": len(scene.cameras),
               "size": [scene.cameras[0].width, scene.cameras[0].height], "target": scene.target.name,
@@ -67,8 +70,8 @@ def measure(run_dir: Path, work: Path, pictures: Path, solid: float, seed: int =
     lifted = run_segment(run, SegmentConfig(run=str(run_dir), from_masks=str(work / "given"), out=str(work / "lift")))
     seconds = time.perf_counter() - start
     train_names = [scene.cameras[i].name for i in scene.train]
-    found = _masks(work / "lift" / "masks", train_names)
-    lifted_scores = proposal_scores(_masks(work / "lift" / "masks", test), truth_test, ids)
+    found = _masks(work / "lift", train_names)
+    lifted_scores = proposal_scores(_masks(work / "lift", test), truth_test, ids)
     record["masks"] = {"seconds": round(seconds, 1), "segments": lifted["segments"], "objects": lifted["objects"],
                        "association": round(association_accuracy(given, owners, found), 4),
                        "target_iou": lifted_scores["objects"][scene.target.id]["iou"]}

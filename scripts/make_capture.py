@@ -47,7 +47,7 @@ def make_capture(scene: Path, out: Path, keep_truth: bool = False) -> dict:
     if not models:
         raise SystemExit(f"error: SfM registered none of the images of {scene}")
     best = models[max(models, key=lambda k: models[k].num_reg_images())]
-    model_dir = out / "sparse" / "0"
+    model_dir = target.sparse
     model_dir.mkdir(parents=True)
     best.write_binary(str(model_dir))
     shutil.rmtree(work)
