@@ -4,9 +4,10 @@
 
 Copies SCENE/images into CAPTURE/images and runs SfM on them (SIFT, exhaustive matching, incremental
 mapping) with one SIMPLE_RADIAL camera of unknown focal length, as COLMAP's and capture apps' defaults
-do: CAPTURE/sparse/0 holds the largest model, in SfM's own frame and scale. `--keep-truth` also copies
-what scores a result against the generator (gt/, holes/, split.json: all per image, valid in any frame),
-never masks/. The tests and the README's "Your own capture" start from such a folder. Engine Python.
+do: CAPTURE/sparse holds the largest model, in SfM's own frame and scale. `--keep-truth` also copies
+what scores a result against the generator (gt/, holes/, split.json less the views SfM dropped: all per
+image, valid in any frame), never masks/. The tests and the README's "Your own capture" start from such
+a folder. Engine Python.
 """
 
 from __future__ import annotations
@@ -35,7 +36,6 @@ def make_capture(scene: Path, out: Path, keep_truth: bool = False) -> dict:
         for folder in (source.gt, source.holes):
             if folder.is_dir():
                 shutil.copytree(folder, out / folder.name)
-        shutil.copy(source.split_json, target.split_json)
     work = out / ".sfm"
     work.mkdir()
     reader = pycolmap.ImageReaderOptions()
@@ -50,6 +50,10 @@ def make_capture(scene: Path, out: Path, keep_truth: bool = False) -> dict:
     model_dir = target.sparse
     model_dir.mkdir(parents=True)
     best.write_binary(str(model_dir))
+    registered = {image.name for image in best.images.values()}
+    if keep_truth:  # the generator's split, less the views SfM could not register
+        split = json.loads(source.split_json.read_text())
+        target.split_json.write_text(json.dumps({k: [n for n in v if n in registered] for k, v in split.items()}))
     shutil.rmtree(work)
     report = {"images": len(list(target.images.iterdir())), "registered": best.num_reg_images(),
               "points": best.num_points3D(),
