@@ -67,10 +67,10 @@ def _segment(args: argparse.Namespace) -> None:
     from engine.train.trained_run import load_run
 
     config = config_from_args(args, SegmentConfig)
-    if not config.adds:  # --box and --indices extend the segments found so far
-        check_new_output(Path(config.out) if config.out else RunLayout(config.run).segments.root)
-    report = run_segment(load_run(config.run), config)
     out = Path(config.out) if config.out else RunLayout(config.run).segments.root
+    if not config.adds:  # --box and --indices extend the segments found so far
+        check_new_output(out)
+    report = run_segment(load_run(config.run), config)
     print(f"{report['objects']} objects in {out}: see {out / 'sheet.png'}, then `remove --run {config.run} "
           "--object NAME`", file=sys.stderr)
 

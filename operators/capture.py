@@ -137,11 +137,4 @@ def selection_box(objects: list[bpy.types.Object], frame: bpy.types.Object | Non
 CLASSES = (SPLATFILL_OT_import_capture, SPLATFILL_OT_find_objects, SPLATFILL_OT_object_from_selection)
 
 
-def register() -> None:
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister() -> None:
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(CLASSES)

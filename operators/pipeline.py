@@ -261,11 +261,4 @@ CLASSES = (SPLATFILL_OT_import_colmap, SPLATFILL_OT_import_splats, SPLATFILL_OT_
            SPLATFILL_OT_evaluate)
 
 
-def register() -> None:
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister() -> None:
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(CLASSES)

@@ -114,7 +114,7 @@ def test_components_join_what_touches_and_nothing_else():
     assert label.tolist() == [0, 0, 0, 3, 4, 4]
     rng = np.random.default_rng(0)
     blobs = np.concatenate([rng.uniform(0, 1, (500, 3)), rng.uniform(0, 1, (500, 3)) + [3, 0, 0]])
-    voxel, label, _ = voxel_components(blobs, 0.25)
+    voxel, label = voxel_components(blobs, 0.25)
     parts = label[voxel]
     assert len(set(parts[:500])) == 1 and len(set(parts[500:])) == 1 and parts[0] != parts[-1]
 

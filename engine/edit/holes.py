@@ -39,7 +39,7 @@ from engine.io.image_io import exr_name, read_depth, read_png, write_png
 from engine.io.masks import dilate
 from engine.io.visibility import DEFAULT_REL_TOL, unseen_mask
 from engine.pictures.preview import label, overlay
-from engine.render.render_views import render_pictures
+from engine.render.render_views import render_depths
 from engine.train.trained_run import load_run
 
 
@@ -69,12 +69,7 @@ def run_holes(config: HoleConfig) -> dict:
         raise InputError(f"{removed.report} missing: run `python -m engine remove --run {run.root} ...` first")
     scene, device = run.scene, pick_device(config.device)
     train_cameras = [scene.cameras[i] for i in scene.train]
-    progress = Progress("holes: original depth", len(train_cameras))
-    seen_depths = []
-    for k, picture in enumerate(render_pictures(run.gaussians, train_cameras, run.sh_degree, device)):
-        seen_depths.append(picture.depth)
-        progress.update(k + 1)
-    progress.close()
+    seen_depths = render_depths(run.gaussians, train_cameras, run.sh_degree, device, "holes: original depth")
     regions = [read_png(removed.masks / camera.name, kind="mask") > 0 for camera in scene.cameras]
     plane = (support_plane(train_cameras, [regions[i] for i in scene.train], seen_depths, config.rel_tol)
              if config.support_plane else None)

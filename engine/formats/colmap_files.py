@@ -127,6 +127,11 @@ def _text_records(path: Path, keep_empty: bool = False) -> list[list[str]]:
     return records
 
 
+def model_ext(model_dir: Path) -> str:
+    """".bin" for a binary COLMAP model (cameras.bin present), else ".txt"."""
+    return ".bin" if (model_dir / "cameras.bin").is_file() else ".txt"
+
+
 def find_model_dir(scene_root: Path) -> Path:
     """The folder holding a scene's model: `sparse/0/` (COLMAP's layout) or `sparse/`."""
     sparse = SceneLayout(scene_root).sparse

@@ -34,7 +34,7 @@ class ColmapModel:
 
 def read_model(model_dir: Path) -> ColmapModel:
     """Read a COLMAP model (binary or text) with numpy; one line names the missing or broken file."""
-    ext = ".bin" if (model_dir / "cameras.bin").is_file() else ".txt"
+    ext = colmap_files.model_ext(model_dir)
     paths = {stem: model_dir / f"{stem}{ext}" for stem in MODEL_FILES}
     for path in paths.values():
         if not path.is_file():

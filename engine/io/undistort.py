@@ -29,7 +29,7 @@ UNDISTORTED_MODELS = ("SIMPLE_RADIAL", "RADIAL", "OPENCV", "FULL_OPENCV")
 
 def camera_models(model_dir: Path) -> set[str]:
     """The camera models a COLMAP model uses."""
-    ext = ".bin" if (model_dir / "cameras.bin").is_file() else ".txt"
+    ext = colmap_files.model_ext(model_dir)
     try:
         return {c.model for c in colmap_files.read_cameras(model_dir / f"cameras{ext}").values()}
     except (OSError, ValueError, IndexError, UnicodeDecodeError) as exc:
@@ -66,7 +66,7 @@ def _undistort_aligned(scene: SceneLayout, model_dir: Path, out: Path) -> None:
     from engine.io.colmap_model import read_model
     from engine.io.image_io import read_depth, read_png, write_depth, write_png
 
-    ext = ".bin" if (model_dir / "cameras.bin").is_file() else ".txt"
+    ext = colmap_files.model_ext(model_dir)
     raw_cameras = colmap_files.read_cameras(model_dir / f"cameras{ext}")
     raw = {Path(i.name).stem: raw_cameras[i.camera_id] for i in colmap_files.read_images(model_dir / f"images{ext}")
            .values()}

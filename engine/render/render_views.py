@@ -44,6 +44,19 @@ def render_pictures(gaussians: Gaussians, cameras: list[Camera], sh_degree: int,
         yield ViewPicture(rgb=rgb.cpu().numpy(), depth=depth.float().cpu().numpy(), labels=labels)
 
 
+def render_depths(gaussians: Gaussians, cameras: list[Camera], sh_degree: int, device: torch.device, stage: str
+                  ) -> list[np.ndarray]:
+    """The z-depth (inf where nothing is rendered) of each camera's view, with progress as `stage`: what
+    the hole masks and the lifting of user masks test visibility against."""
+    progress = Progress(stage, len(cameras))
+    depths = []
+    for k, picture in enumerate(render_pictures(gaussians, cameras, sh_degree, device)):
+        depths.append(picture.depth)
+        progress.update(k + 1)
+    progress.close()
+    return depths
+
+
 def render_to_folder(ply: Path, cameras_json: Path, out: Path, device: str = "auto") -> Path:
     """Render a .ply from every camera of a cameras.json into out/<camera name> (PNG), written atomically:
     the turntable's frames and any other camera path a user brings."""

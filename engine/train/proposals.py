@@ -6,9 +6,9 @@ Objects are what rests on a support surface there: the dense horizontal planes (
 found from the Gaussians' heights and refined by least squares; the solid Gaussians off those planes, above
 the lowest one and within the orbit, are split into objects by 3D connectivity on a voxel grid (voxel
 `voxel` x R, or their median spacing where the reconstruction is sparser); pieces as wide as the orbit
-(walls, the table's rim) stay background. Faint Gaussians (floaters, soft edges) join the object whose voxel
-they lie in. Every length is a fraction of R, so the same defaults hold for a generated scene in metres and
-an SfM frame of arbitrary scale.
+(walls, the table's rim) stay background. Faint Gaussians (floaters, soft edges) join the object of the
+nearest solid one within two voxels. Every length is a fraction of R, so the same defaults hold for a
+generated scene in metres and an SfM frame of arbitrary scale.
 """
 
 from __future__ import annotations
@@ -22,12 +22,8 @@ from engine.base.knn import knn
 from engine.formats.cameras import Camera
 
 COARSE = 5  # support planes are first looked for in height bins this many tolerances wide
-
-
-def neighbours(reach: int) -> np.ndarray:
-    """Voxel offsets within `reach` cells, half of them (each pair of voxels is looked at once)."""
-    steps = range(-reach, reach + 1)
-    return np.array([(i, j, k) for i in steps for j in steps for k in steps if (i, j, k) > (0, 0, 0)])
+NEIGHBOURS = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
+                       if (i, j, k) > (0, 0, 0)])  # half of the 26-neighbourhood: each pair of voxels once
 
 
 @dataclass
@@ -109,22 +105,21 @@ def components(count: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         label = new
 
 
-def voxel_components(points: np.ndarray, size: float, reach: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Per point, its occupied voxel's index and component (voxels up to `reach` cells apart connect); and
-    the voxels' integer keys (V, 3)."""
+def voxel_components(points: np.ndarray, size: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per point, its occupied voxel's index; per voxel, its component (neighbouring voxels connect)."""
     cells = np.floor(points / size).astype(np.int64)
     keys, voxel = np.unique(cells, axis=0, return_inverse=True)
     code = _codes(keys)
     order = np.argsort(code)
     a, b = [], []
-    for offset in neighbours(reach):
+    for offset in NEIGHBOURS:
         other = _codes(keys + offset)
         at = np.clip(np.searchsorted(code[order], other), 0, len(code) - 1)
         hit = code[order][at] == other
         a.append(np.flatnonzero(hit))
         b.append(order[at[hit]])
     label = components(len(keys), np.concatenate(a), np.concatenate(b))
-    return voxel.ravel(), label, keys
+    return voxel.ravel(), label
 
 
 def merge_stacked(points: np.ndarray, voxel: np.ndarray, label: np.ndarray, up: np.ndarray, gap: float
@@ -187,7 +182,7 @@ def propose(means: np.ndarray, opacity: np.ndarray, cameras: list[Camera], confi
     if len(seeds) == 0:
         return ids, {"planes": len(planes), "proposals": 0, "radius": r}
     size = max(config.voxel * r, spacing(means[seeds]))  # a sparse reconstruction needs coarser voxels
-    voxel, label, keys = voxel_components(means[seeds], size)
+    voxel, label = voxel_components(means[seeds], size)
     gap = max(config.stack_gap * size, 2.5 * tol)  # what a plane's band may have cut out of an object
     label = merge_stacked(means[seeds], voxel, label, frame.up, gap)
     width = _component_widths(means[seeds], label[voxel], frame.up)

@@ -35,7 +35,7 @@ import torch
 from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
-from engine.base.progress import Progress, emit
+from engine.base.progress import emit
 from engine.formats.cameras import Camera, project, sample_nearest
 from engine.formats.layout import SegmentsLayout
 from engine.formats.splat_ply import IDENTITY_DIM
@@ -45,7 +45,7 @@ from engine.io.image_io import read_png, write_png
 from engine.io.scene import Scene, SceneObject
 from engine.pictures.preview import colorize_ids, label
 from engine.render.rasterize import CameraTensors, render
-from engine.render.render_views import render_pictures
+from engine.render.render_views import render_depths
 from engine.train.proposals import ProposalConfig, propose
 
 MAX_OBJECTS = IDENTITY_DIM - 1
@@ -199,12 +199,7 @@ def _from_masks(run, means: np.ndarray, config: SegmentConfig, device: torch.dev
         raise InputError(f"mask folder {folder} does not exist: give per-view PNGs named like the images")
     masks = [read_png(folder / Path(scene.cameras[i].name).with_suffix(".png"), kind="mask") for i in views]
     cameras = [scene.cameras[i] for i in views]
-    progress = Progress("segment: depth", len(views))
-    depths = []
-    for k, picture in enumerate(render_pictures(run.gaussians, cameras, run.sh_degree, device)):
-        depths.append(picture.depth)
-        progress.update(k + 1)
-    progress.close()
+    depths = render_depths(run.gaussians, cameras, run.sh_degree, device, "segment: depth")
     return lift_masks(means, cameras, masks, depths, config.rel_tol, config.join)
 
 

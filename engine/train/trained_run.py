@@ -59,7 +59,8 @@ def _read_run(root: Path, scene: Path | str | None) -> tuple[TrainConfig, int, P
 def load_run_scene(root: Path | str) -> Scene:
     """Only the scene of run folder `root`, for stages that read its files but not its Gaussians."""
     config, _, scene_dir = _read_run(Path(root), None)
-    return _scene_with_segments(load_scene(scene_dir, config.resolution), RunLayout(root))
+    layout = RunLayout(root)
+    return _scene_with_segments(load_scene(scene_dir, config.resolution), layout, _segments(layout))
 
 
 def _segments(layout: RunLayout) -> list[SceneObject] | None:
@@ -67,9 +68,8 @@ def _segments(layout: RunLayout) -> list[SceneObject] | None:
     return read_segment_objects(layout) if layout.segments.objects_json.is_file() else None
 
 
-def _scene_with_segments(scene: Scene, layout: RunLayout) -> Scene:
+def _scene_with_segments(scene: Scene, layout: RunLayout, objects: list[SceneObject] | None) -> Scene:
     """The scene with the segments' objects and per-view masks in place of its own, when they exist."""
-    objects = _segments(layout)
     if objects is None:
         return scene
     folder = layout.segments.masks
@@ -87,7 +87,7 @@ def _run_with_segments(run: TrainedRun) -> TrainedRun:
         raise InputError(f"{run.layout.segments.ids} has {len(ids)} ids for {len(run.gaussians['means'])} "
                          "Gaussians: the run changed since; run `python -m engine segment` again")
     identity, classifier = identity_of(ids, max([o.id for o in objects], default=0))
-    return dataclasses.replace(run, scene=_scene_with_segments(run.scene, run.layout),
+    return dataclasses.replace(run, scene=_scene_with_segments(run.scene, run.layout, objects),
                                gaussians={**run.gaussians, "identity": identity}, classifier=classifier)
 
 
