@@ -87,5 +87,8 @@ def tiny_run(living_scene, tmp_path_factory) -> Path:
     from engine.train.run import train
 
     out = tmp_path_factory.mktemp("runs") / "living"
-    train(TrainConfig(scene=str(living_scene), out=str(out), preset="tiny", device="cpu", steps=800))
+    # test sizes: 800 steps on the preset's 200-step densification (stretched, it would densify until 600
+    # and quadruple the Gaussians every later test renders)
+    train(TrainConfig(scene=str(living_scene), out=str(out), preset="tiny", device="cpu", steps=800,
+                      refine_start=50, refine_stop=150))
     return out

@@ -135,6 +135,20 @@ def test_support_planes_are_found_in_any_frame():
     assert all(n @ (tilt @ [0, 0, 1]) > np.cos(np.radians(1)) for n, _ in planes)
 
 
+def test_a_slice_of_an_object_with_floaters_at_its_height_is_no_plane():
+    """A statue's plinth top (radius 0.1) and some floaters far off at the same height held a tiny run's
+    statue as a second "plane" that cut it in two (90th-percentile spread 0.77 R); the median says 0.09 R."""
+    rng = np.random.default_rng(2)
+    angle = rng.uniform(0, 2 * np.pi, 3000)
+    floor = np.c_[rng.uniform(-1.5, 1.5, (3000, 2)), rng.normal(0, 0.003, 3000)]
+    statue = np.c_[0.1 * np.cos(angle), 0.1 * np.sin(angle), rng.uniform(0, 1, 3000)]
+    plinth = np.c_[rng.uniform(-0.07, 0.07, (400, 2)), np.full(400, 0.5)]
+    floaters = np.c_[0.9 * np.cos(angle[:60]), 0.9 * np.sin(angle[:60]), np.full(60, 0.5)]
+    points = np.concatenate([floor, statue, plinth, floaters])
+    planes = support_planes(points, np.array([0.0, 0.0, 1.0]), tol=0.01, share=0.05, min_radius=0.15)
+    assert [round(-d, 2) for _, d in planes] == [0.0]
+
+
 def test_association_is_scored_against_perturbed_masks():
     """perturb_masks shuffles and splits/merges; a result that equals the truth scores 1, a shuffled one less."""
     rng = np.random.default_rng(0)

@@ -55,6 +55,18 @@ def test_training_lowers_the_loss_fits_the_views_and_separates_objects(living_sc
     assert len(trainer.params["means"]) > len(scene.points)  # densification ran
 
 
+def test_the_schedule_stretches_with_the_steps_the_user_asks_for():
+    """`--preset tiny --steps 300` densified only until step 150 (its 200-step schedule), a 10k-step run past
+    its end (15k); a schedule the user sets stays as set."""
+    tiny = TrainConfig(preset="tiny", steps=300).resolved()
+    assert (tiny.refine_start, tiny.refine_stop) == (75, 225)
+    short = TrainConfig(steps=10_000).resolved()
+    assert (short.refine_stop, short.reset_every) == (5_000, 1_000) and short.refine_every == 100
+    assert TrainConfig(steps=10_000, refine_stop=8_000).resolved().refine_stop == 8_000
+    assert short.resolved() == short  # a saved config reads back as it ran
+    assert short.with_steps(2_000).refine_stop == 1_000  # a completion retraining for fewer steps
+
+
 def test_a_budget_caps_the_number_of_gaussians(living_scene: Path, tmp_path: Path):
     scene = load_scene(living_scene)
     cap = len(scene.points) + 500

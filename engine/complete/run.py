@@ -100,9 +100,9 @@ def run_complete(config: CompleteConfig) -> dict:
             colmap = job.method.after_scene(job, tmp)
         if colmap is not None:
             out.recolmap_json.write_text(json.dumps(colmap, indent=1))
-    settings = dataclasses.replace(original.config, scene=str(out.scene.root), out=str(out.run.root),
-                                   seed=config.seed, device=config.device, resolution=1,  # scene: at run's size
-                                   steps=config.steps or original.config.steps)
+    settings = dataclasses.replace(original.config.with_steps(config.steps or original.config.steps),
+                                   scene=str(out.scene.root), out=str(out.run.root), seed=config.seed,
+                                   device=config.device, resolution=1)  # the scene is written at the run's size
     settings, plugins = job.method.setup(job, settings)
     metrics = train(settings, resume=config.resume, plugins=plugins,
                     resume_hint="the same `python -m engine complete` command and --resume")

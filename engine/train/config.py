@@ -21,6 +21,8 @@ PRESETS: dict[str, dict] = {
                  refine_every=50, reset_every=100_000, checkpoint_every=100, log_every=10, reg3d_refresh=100),
 }
 
+SCHEDULE = ("refine_start", "refine_stop", "reset_every")  # steps that scale with the run's length
+
 
 @dataclass
 class TrainConfig:
@@ -74,12 +76,24 @@ class TrainConfig:
         return min(step // self.sh_degree_interval, self.sh_degree)
 
     def resolved(self) -> TrainConfig:
-        """Apply the preset's values to fields the user left at their defaults."""
+        """Apply the preset's values to fields the user left at their defaults. A schedule the user left
+        alone stretches with --steps: densifying stops at the same fraction of the run whatever its length
+        (the tiny preset at 300 steps densifies until 225, not 150; a 10k-step run stops at 5k, not past
+        its end)."""
         if self.preset not in PRESETS:
             raise InputError(f"unknown preset {self.preset!r}: choose from {', '.join(sorted(PRESETS))}")
         defaults = TrainConfig()
-        changes = {k: v for k, v in PRESETS[self.preset].items() if getattr(self, k) == getattr(defaults, k)}
-        return dataclasses.replace(self, **changes)
+        preset = PRESETS[self.preset]
+        untouched = tuple(k for k in SCHEDULE if getattr(self, k) == getattr(defaults, k))
+        changes = {k: v for k, v in preset.items() if getattr(self, k) == getattr(defaults, k)}
+        planned = dataclasses.replace(self, **{**changes, "steps": preset.get("steps", defaults.steps)})
+        return planned.with_steps(changes.get("steps", self.steps), untouched)
+
+    def with_steps(self, steps: int, schedule: tuple[str, ...] = SCHEDULE) -> TrainConfig:
+        """This config run for `steps` steps, its schedule stretched or shrunk to match (a completion that
+        retrains for fewer steps than its base run still stops densifying before its end)."""
+        scale = steps / self.steps
+        return dataclasses.replace(self, steps=steps, **{k: max(1, round(getattr(self, k) * scale)) for k in schedule})
 
 
 def add_config_arguments(parser: argparse.ArgumentParser, cls=TrainConfig, skip: tuple[str, ...] = (),

@@ -31,7 +31,7 @@ class ProposalConfig:
     solid: float = 0.2  # opacity a Gaussian needs to shape the geometry
     plane_tol: float = 0.02  # a Gaussian within this x R of a support plane belongs to it
     plane_share: float = 0.05  # a plane holds at least this share of the solid Gaussians in the orbit
-    plane_radius: float = 0.25  # ... spread at least this x R around its centre (90th percentile)
+    plane_radius: float = 0.15  # ... spread at least this x R around its centre (median distance)
     voxel: float = 0.02  # connectivity voxel, x R (at least the Gaussians' median spacing)
     stack_gap: float = 2.0  # a piece resting this many voxels above another's footprint is part of it
     max_width: float = 0.8  # a piece wider than this x R is scenery, not an object
@@ -60,8 +60,9 @@ def camera_frame(cameras: list[Camera]) -> Frame:
 def support_planes(points: np.ndarray, up: np.ndarray, tol: float, share: float, min_radius: float = 0.0,
                    most: int = 4) -> list[tuple[np.ndarray, float]]:
     """Horizontal planes (unit normal n, offset d, n.p + d = 0) that hold at least `share` of `points`
-    within `tol` and spread at least `min_radius` around their centre (a large round object's horizontal
-    slice holds many points too, but is no wider than the object). SfM's up is only roughly up, which
+    within `tol` and spread at least `min_radius` around their centre, by the median distance (a large
+    round object's horizontal slice holds many points too, but is no wider than the object; a few floaters
+    at the same height far away must not make it wide). SfM's up is only roughly up, which
     smears a wide floor over many heights: peaks are looked for in bins of COARSE x tol, then each normal
     is refitted by least squares to a band narrowing to tol."""
     heights = points @ up
@@ -82,7 +83,7 @@ def support_planes(points: np.ndarray, up: np.ndarray, tol: float, share: float,
             offset = float(-normal @ mean)
         held = points[np.abs(points @ normal + offset) < tol]
         seen = any(abs(offset - d) < COARSE * tol for _, d in planes)
-        spread = np.percentile(np.linalg.norm(held - held.mean(0), axis=1), 90) if len(held) else 0.0
+        spread = np.median(np.linalg.norm(held - held.mean(0), axis=1)) if len(held) else 0.0
         if (normal @ up > np.cos(np.radians(20)) and len(held) >= share * len(points) and not seen
                 and spread >= min_radius):
             planes.append((normal, offset))
