@@ -12,9 +12,10 @@ import pytest
 
 from engine.base.errors import InputError
 from engine.edit.removal import RemovalConfig, run_removal
+from engine.edit.support_plane import support_planes
 from engine.io.image_io import read_png, write_png
 from engine.metrics.segment_scores import association_accuracy, iou, perturb_masks, proposal_scores
-from engine.train.proposals import components, support_planes, voxel_components
+from engine.train.proposals import components, voxel_components
 from engine.train.segments import SegmentConfig, lift_masks, run_segment
 from engine.train.trained_run import load_run, load_run_scene
 

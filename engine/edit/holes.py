@@ -34,6 +34,7 @@ from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
 from engine.edit.support_plane import stop_at_plane, support_plane
+from engine.formats.cameras import mean_up
 from engine.formats.layout import HolesLayout, RemovedLayout
 from engine.io.image_io import exr_name, read_depth, read_png, write_png
 from engine.io.masks import dilate
@@ -71,7 +72,8 @@ def run_holes(config: HoleConfig) -> dict:
     train_cameras = [scene.cameras[i] for i in scene.train]
     seen_depths = render_depths(run.gaussians, train_cameras, run.sh_degree, device, "holes: original depth")
     regions = [read_png(removed.masks / camera.name, kind="mask") > 0 for camera in scene.cameras]
-    plane = (support_plane(train_cameras, [regions[i] for i in scene.train], seen_depths, config.rel_tol)
+    up = mean_up(np.stack([c.R for c in scene.cameras]))
+    plane = (support_plane(train_cameras, [regions[i] for i in scene.train], seen_depths, config.rel_tol, up)
              if config.support_plane else None)
     # the object's region in each training view: it hid whatever lies behind it there
     occluders = [dilate(regions[i], round(config.occluder_margin * np.hypot(scene.cameras[i].width,

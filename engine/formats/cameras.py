@@ -111,16 +111,22 @@ def _pixel_index(x: np.ndarray) -> np.ndarray:
     return np.floor(np.clip(x, -1.0, 1e9)).astype(np.int64)
 
 
+def mean_up(rotations: np.ndarray) -> np.ndarray | None:
+    """The cameras' mean up direction (unit), or None when they agree on none. `rotations` (K, 3, 3) are
+    world-to-camera; a camera's up is its -y axis (OpenCV), which is -R[1] in the world. People hold a
+    camera level, so this is the scene's up whatever axes SfM picked."""
+    up = -np.asarray(rotations).reshape(-1, 3, 3)[:, 1, :].sum(axis=0)
+    norm = np.linalg.norm(up)
+    return up / norm if norm > 1e-9 * max(len(up), 1) else None
+
+
 def upright_rotation(rotations: np.ndarray) -> np.ndarray:
     """(3, 3) the rotation that turns the cameras' mean up direction into +Z, Blender's up, by the shortest
-    arc. `rotations` (K, 3, 3) are world-to-camera; a camera's up is its -y axis (OpenCV), which is -R[1] in
-    the world. SfM picks its own axes (a capture often comes in tilted by tens of degrees); a generated
-    scene's cameras are upright already and give (nearly) the identity."""
-    up = -np.asarray(rotations)[:, 1, :].mean(axis=0)
-    norm = np.linalg.norm(up)
-    if len(rotations) == 0 or norm < 1e-9:
+    arc. SfM picks its own axes (a capture often comes in tilted by tens of degrees); a generated scene's
+    cameras are upright already and give (nearly) the identity."""
+    up = mean_up(rotations)
+    if up is None:
         return np.eye(3)
-    up /= norm
     z = np.array([0.0, 0.0, 1.0])
     axis, cos = np.cross(up, z), float(up @ z)
     if np.linalg.norm(axis) < 1e-12:
