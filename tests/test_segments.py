@@ -12,8 +12,8 @@ import pytest
 
 from engine.base.errors import InputError
 from engine.edit.removal import RemovalConfig, run_removal
-from engine.edit.support_plane import support_planes
 from engine.io.image_io import read_png, write_png
+from engine.io.planes import support_planes
 from engine.metrics.segment_scores import association_accuracy, iou, perturb_masks, proposal_scores
 from engine.train.proposals import components, voxel_components
 from engine.train.segments import SegmentConfig, lift_masks, run_segment

@@ -19,8 +19,8 @@ import numpy as np
 import torch
 
 from engine.base.knn import knn
-from engine.edit.support_plane import support_planes
 from engine.formats.cameras import Camera, mean_up
+from engine.io.planes import support_planes
 
 NEIGHBOURS = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
                        if (i, j, k) > (0, 0, 0)])  # half of the 26-neighbourhood: each pair of voxels once
