@@ -4,10 +4,14 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
+import tempfile
+import traceback
 from pathlib import Path
 
 from engine.base.errors import Cancelled, InputError
+from engine.formats.checks import LIMITS
 
 
 def _build_scene(args: argparse.Namespace) -> None:
@@ -198,6 +202,12 @@ def _keys_set() -> list[str]:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m engine", description="splatfill engine")
+    parser.add_argument("--debug", action="store_true",
+                        help="print the traceback of an error (or set SPLATFILL_DEBUG=1)")
+    parser.add_argument("--limit-pixels", type=int, default=LIMITS.pixels,
+                        help=f"largest image a file may declare, in pixels (default: {LIMITS.pixels:,})")
+    parser.add_argument("--limit-gaussians", type=int, default=LIMITS.gaussians,
+                        help=f"most Gaussians a .ply may declare (default: {LIMITS.gaussians:,})")
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("build-scene", help="turn make_scene.py's renders into a scene folder")
     p.add_argument("--renders", required=True)
@@ -283,11 +293,19 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run one command. Bad input: exit 2 and one line on stderr; a bug: exit 1, one line, and the traceback
+    in a file (on stderr with --debug). When stdout is no terminal, C libraries' prints go to stderr."""
     args = build_parser().parse_args(argv)
+    LIMITS.pixels, LIMITS.gaussians = args.limit_pixels, args.limit_gaussians
+    debug = args.debug or os.environ.get("SPLATFILL_DEBUG") == "1"
+    if not sys.stdout.isatty():
+        json_only_stdout()
     try:
         args.handler(args)
     except InputError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        if debug:
+            traceback.print_exc()
+        print(f"error: {one_line(str(exc))}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("error: interrupted; nothing was written over existing files", file=sys.stderr)
@@ -295,4 +313,30 @@ def main(argv: list[str] | None = None) -> int:
     except Cancelled as exc:
         print(f"cancelled: {exc}", file=sys.stderr)
         return 130
+    except Exception as exc:  # a bug of ours: one line, the traceback kept for the report
+        if debug:
+            traceback.print_exc()
+        print(f"error: internal error: {type(exc).__name__}: {one_line(str(exc))[:300]} (traceback in "
+              f"{write_traceback()}; please report it)", file=sys.stderr)
+        return 1
     return 0
+
+
+def one_line(text: str) -> str:
+    return " ".join(text.split())
+
+
+def write_traceback() -> Path:
+    """The current exception's traceback in a new file under the temp folder."""
+    with tempfile.NamedTemporaryFile("w", prefix="splatfill-error-", suffix=".txt", delete=False) as f:
+        traceback.print_exc(file=f)
+    return Path(f.name)
+
+
+def json_only_stdout() -> None:
+    """Point fd 1 at stderr, and Python's stdout at a copy of the real stdout: our JSON lines still reach
+    the add-on, while whatever C code prints to fd 1 (OpenImageIO, libpng, a compiler) goes to stderr."""
+    sys.stdout.flush()
+    real = os.dup(1)
+    os.dup2(2, 1)
+    sys.stdout = os.fdopen(real, "w", buffering=1, encoding="utf-8")

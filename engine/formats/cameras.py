@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..base.errors import InputError
+from .checks import check_intrinsics, check_pose, read_json
 
 SENSOR_MM = 36.0
 FLIP_YZ = np.diag([1.0, -1.0, -1.0])  # OpenCV camera axes <-> Blender camera axes
@@ -43,6 +44,11 @@ class Camera:
     cy: float
     R: np.ndarray  # (3, 3) world-to-camera rotation
     t: np.ndarray  # (3,) world-to-camera translation
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """(width, height) in pixels, as image headers give it."""
+        return self.width, self.height
 
     @property
     def K(self) -> np.ndarray:
@@ -149,14 +155,22 @@ def write_cameras_json(cameras: list[Camera], path: Path) -> Path:
 
 
 def read_cameras_json(path: Path) -> list[Camera]:
+    """Cameras a renderer can use: sizes within the pixel limit, positive focal lengths, rotations."""
+    entries = read_json(path)
+    if not isinstance(entries, list) or not entries:
+        raise InputError(f"{path} holds no list of cameras; write it with the add-on or make_scene.py")
+    cameras = []
     try:
-        entries = json.loads(Path(path).read_text())
-        return [Camera(name=e["name"], width=int(e["width"]), height=int(e["height"]), fx=float(e["fx"]),
-                       fy=float(e["fy"]), cx=float(e["cx"]), cy=float(e["cy"]),
-                       R=np.array(e["R"], dtype=np.float64), t=np.array(e["t"], dtype=np.float64))
-                for e in entries]
-    except (OSError, ValueError, KeyError, TypeError) as exc:
-        raise InputError(f"cannot read cameras from {path} ({exc}); write it with the add-on or make_scene.py") from exc
+        for e in entries:
+            name = str(e["name"])
+            width, height, fx, fy, cx, cy = check_intrinsics(e["width"], e["height"], e["fx"], e["fy"], e["cx"],
+                                                             e["cy"], path, name)
+            R, t = check_pose(e["R"], e["t"], path, name)
+            cameras.append(Camera(name=name, width=width, height=height, fx=fx, fy=fy, cx=cx, cy=cy, R=R, t=t))
+    except (KeyError, TypeError) as exc:
+        raise InputError(f"cannot read cameras from {path} (missing {exc}); write it with the add-on or "
+                         "make_scene.py") from exc
+    return cameras
 
 
 def blender_settings(fx: float, fy: float, cx: float, cy: float, width: int, height: int) -> dict:

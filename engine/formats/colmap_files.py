@@ -7,6 +7,7 @@ check that both agree. Format: COLMAP's `src/colmap/scene/reconstruction_io.cc` 
 
 from __future__ import annotations
 
+import functools
 import struct
 from dataclasses import dataclass
 from pathlib import Path
@@ -14,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..base.errors import InputError
+from .checks import check_pixels, unit_quaternion
 from .layout import SceneLayout
 
 MODELS = {  # model id: (name, number of parameters)
@@ -22,6 +24,7 @@ MODELS = {  # model id: (name, number of parameters)
     9: ("RADIAL_FISHEYE", 5), 10: ("THIN_PRISM_FISHEYE", 12), 11: ("RAD_TAN_THIN_PRISM_FISHEYE", 16),
 }
 PARAM_COUNTS = {name: count for name, count in MODELS.values()}
+ONE_FOCAL = ("SIMPLE_PINHOLE", "SIMPLE_RADIAL", "RADIAL", "SIMPLE_RADIAL_FISHEYE", "RADIAL_FISHEYE")
 
 
 @dataclass
@@ -62,63 +65,118 @@ class _Reader:
         self.pos = end + 1
         return text
 
+    def count(self, record_bytes: int, what: str) -> int:
+        """A record count read from the file, checked against the bytes left (at least `record_bytes` a
+        record): a corrupt count must not start a loop of billions of reads."""
+        count = self.read("Q")[0]
+        if count * record_bytes > len(self.data) - self.pos:
+            raise InputError(f"{self.path} declares {count:,} {what} but holds {len(self.data) - self.pos:,} bytes "
+                             "more; it is truncated or corrupt, re-export the COLMAP model")
+        return count
+
     def skip(self, nbytes: int) -> None:
         if self.pos + nbytes > len(self.data):
             raise InputError(f"{self.path} is truncated; re-export the COLMAP model")
         self.pos += nbytes
 
 
+def _parsed(read):
+    """A reader whose malformed numbers and fields end in one InputError naming the file."""
+    @functools.wraps(read)
+    def wrapper(path: Path):
+        try:
+            return read(path)
+        except (ValueError, IndexError, OverflowError, UnicodeDecodeError, struct.error) as exc:
+            raise InputError(f"cannot parse {path} ({str(exc)[:100]}); re-export the COLMAP model") from exc
+    return wrapper
+
+
+@_parsed
 def read_cameras(path: Path) -> dict[int, RawCamera]:
+    """Cameras by id, each with a known model, its parameter count, a size within the pixel limit and
+    finite parameters whose focal lengths are positive."""
     cameras = {}
     if path.suffix == ".txt":
         for fields in _text_records(path):
-            model = fields[1]
-            cameras[int(fields[0])] = RawCamera(model, int(fields[2]), int(fields[3]),
+            _need(fields, 4, path, "CAMERA_ID MODEL WIDTH HEIGHT PARAMS[]")
+            cameras[int(fields[0])] = RawCamera(fields[1], int(fields[2]), int(fields[3]),
                                                 np.array(fields[4:], dtype=np.float64))
-        return cameras
-    r = _Reader(path)
-    for _ in range(r.read("Q")[0]):
-        camera_id, model_id, width, height = r.read("iiQQ")
-        if model_id not in MODELS:
-            raise InputError(f"{path}: unknown camera model id {model_id}; the file is corrupt")
-        name, count = MODELS[model_id]
-        cameras[camera_id] = RawCamera(name, width, height, np.array(r.read(f"{count}d")))
+    else:
+        r = _Reader(path)
+        for _ in range(r.count(24, "cameras")):
+            camera_id, model_id, width, height = r.read("iiQQ")
+            if model_id not in MODELS:
+                raise InputError(f"{path}: unknown camera model id {model_id}; the file is corrupt")
+            name, count = MODELS[model_id]
+            cameras[camera_id] = RawCamera(name, width, height, np.array(r.read(f"{count}d")))
+    for camera_id, camera in cameras.items():
+        _check_camera(camera, camera_id, path)
     return cameras
 
 
+def _check_camera(camera: RawCamera, camera_id: int, path: Path) -> None:
+    where = f"camera {camera_id}"
+    if camera.model in PARAM_COUNTS and len(camera.params) != PARAM_COUNTS[camera.model]:
+        raise InputError(f"{path}: {where} has {len(camera.params)} parameters for {camera.model}; the model "
+                         "is corrupt")
+    check_pixels(camera.width, camera.height, f"{path} ({where})")
+    if not np.isfinite(camera.params).all():
+        raise InputError(f"{path}: {where} has non-finite parameters; the model is corrupt")
+    focal = camera.params[:1] if camera.model in ONE_FOCAL else camera.params[:2]
+    if len(camera.params) and (focal <= 0).any():
+        raise InputError(f"{path}: {where} has focal length {focal.tolist()}, not positive; the model is corrupt")
+
+
+@_parsed
 def read_images(path: Path) -> dict[int, RawImage]:
     images = {}
     if path.suffix == ".txt":
         records = _text_records(path, keep_empty=True)
         for fields in records[0::2]:  # every other line lists the image's 2D points
+            _need(fields, 10, path, "IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME")
             images[int(fields[0])] = RawImage(fields[9], int(fields[8]), np.array(fields[1:5], dtype=np.float64),
                                               np.array(fields[5:8], dtype=np.float64))
-        return images
-    r = _Reader(path)
-    for _ in range(r.read("Q")[0]):
-        image_id, qw, qx, qy, qz, tx, ty, tz, camera_id = r.read("idddddddi")
-        name = r.read_string()
-        r.skip(24 * r.read("Q")[0])  # points2D: x, y (double) and point3D id (int64)
-        images[image_id] = RawImage(name, camera_id, np.array([qw, qx, qy, qz]), np.array([tx, ty, tz]))
+    else:
+        r = _Reader(path)
+        for _ in range(r.count(73, "images")):
+            image_id, qw, qx, qy, qz, tx, ty, tz, camera_id = r.read("idddddddi")
+            name = r.read_string()
+            r.skip(24 * r.read("Q")[0])  # points2D: x, y (double) and point3D id (int64)
+            images[image_id] = RawImage(name, camera_id, np.array([qw, qx, qy, qz]), np.array([tx, ty, tz]))
+    for image in images.values():
+        image.qvec = unit_quaternion(image.qvec, path, f"image {image.name}")
+        if not np.isfinite(image.tvec).all():
+            raise InputError(f"{path}: image {image.name} has a non-finite translation; the model is corrupt")
     return images
 
 
+@_parsed
 def read_points(path: Path) -> tuple[np.ndarray, np.ndarray]:
     """(N, 3) float64 positions and (N, 3) uint8 colours, ordered by point id."""
     rows: list[tuple[int, tuple, tuple]] = []
     if path.suffix == ".txt":
         for fields in _text_records(path):
+            _need(fields, 7, path, "POINT3D_ID X Y Z R G B")
             rows.append((int(fields[0]), tuple(map(float, fields[1:4])), tuple(map(int, fields[4:7]))))
     else:
         r = _Reader(path)
-        for _ in range(r.read("Q")[0]):
+        for _ in range(r.count(51, "points")):
             point_id, x, y, z, red, green, blue, _error, track = r.read("QdddBBBdQ")
             r.skip(8 * track)  # (image id, point2D index) int32 pairs
             rows.append((point_id, (x, y, z), (red, green, blue)))
     rows.sort(key=lambda row: row[0])
     xyz = np.array([row[1] for row in rows], dtype=np.float64).reshape(-1, 3)
-    rgb = np.array([row[2] for row in rows], dtype=np.uint8).reshape(-1, 3)
-    return xyz, rgb
+    rgb = np.array([row[2] for row in rows], dtype=np.int64).reshape(-1, 3)
+    if not np.isfinite(xyz).all():
+        raise InputError(f"{path} holds points at infinity or NaN; the model is corrupt, re-export it")
+    if rgb.size and (rgb.min() < 0 or rgb.max() > 255):
+        raise InputError(f"{path} holds colours outside 0..255; the model is corrupt, re-export it")
+    return xyz, rgb.astype(np.uint8)
+
+
+def _need(fields: list[str], count: int, path: Path, layout: str) -> None:
+    if len(fields) < count:
+        raise InputError(f"{path}: a line has {len(fields)} fields where COLMAP writes {layout}; fix the model")
 
 
 def _text_records(path: Path, keep_empty: bool = False) -> list[list[str]]:
@@ -151,7 +209,7 @@ def world_to_camera_rotations(scene_root: Path) -> np.ndarray:
     ext = ".bin" if (model_dir / "images.bin").is_file() else ".txt"
     try:
         images = read_images(model_dir / f"images{ext}")
-    except (OSError, ValueError, IndexError, UnicodeDecodeError) as exc:
+    except (OSError, ValueError, IndexError, OverflowError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot parse {model_dir / f'images{ext}'} ({exc}); re-export the model") from exc
     return np.array([quat_to_rotation(image.qvec) for image in images.values()]).reshape(-1, 3, 3)
 

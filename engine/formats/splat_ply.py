@@ -11,13 +11,17 @@ code can group Gaussians by identity without torch. Colour from the DC term: rgb
 
 from __future__ import annotations
 
+import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
 
 from ..base.errors import InputError
+from .checks import LIMITS, check_count
 
 IDENTITY_DIM = 16  # Gaussian Grouping's identity encoding
+MAX_CLASSES = 256  # object ids are 8-bit, as in the masks
 SH_REST_COUNTS = {0: 0, 9: 1, 24: 2, 45: 3}  # number of f_rest properties -> SH degree
 # Real spherical-harmonic constants of the reference 3DGS code and gsplat, bands 0..3.
 SH_C0 = 0.28209479177387814
@@ -50,7 +54,12 @@ def read_vertices(path: Path) -> np.ndarray:
     try:
         with open(path, "rb") as f:
             fields, count = _read_header(f, path)
-            data = np.frombuffer(f.read(count * np.dtype(fields).itemsize), dtype=fields, count=count)
+            check_count(count, "Gaussians", LIMITS.gaussians, "--limit-gaussians", path)
+            size, left = np.dtype(fields).itemsize, path.stat().st_size - f.tell()
+            if count * size > left:
+                raise InputError(f"{path} declares {count:,} Gaussians of {size} bytes but holds {left:,} bytes; "
+                                 "it is truncated, re-export it")
+            data = np.frombuffer(f.read(count * size), dtype=fields, count=count)
     except OSError as exc:
         raise InputError(f"cannot read {path} ({exc.strerror}); check the path") from exc
     except (ValueError, IndexError, TypeError) as exc:
@@ -59,10 +68,12 @@ def read_vertices(path: Path) -> np.ndarray:
         raise InputError(f"{path} is truncated or corrupt ({exc}); re-export it") from exc
     names = set(data.dtype.names)
     missing = [n for n in REQUIRED if n not in names]
-    n_rest = sum(1 for n in names if n.startswith("f_rest_"))
-    if missing or n_rest not in SH_REST_COUNTS:
-        lacking = ", ".join(missing) or f"a valid f_rest count ({n_rest})"
+    rest = {n for n in names if n.startswith("f_rest_")}
+    if missing or len(rest) not in SH_REST_COUNTS or rest != {f"f_rest_{i}" for i in range(len(rest))}:
+        lacking = ", ".join(missing) or f"f_rest_0..{len(rest) - 1} ({len(rest)} f_rest fields, as 0, 9, 24 or 45)"
         raise InputError(f"{path} is not a 3DGS .ply: missing {lacking}")
+    if count == 0:
+        raise InputError(f"{path} holds no Gaussians; export a trained scene")
     return data
 
 
@@ -108,16 +119,36 @@ def write_vertices(path: Path, columns: dict[str, np.ndarray]) -> None:
 
 
 def read_classifier(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    """classifier.npz as float32 weight (C, 16) and bias (C,)."""
+    """classifier.npz as float32 weight (C, 16) and bias (C,), C at most MAX_CLASSES. The arrays' headers
+    are checked before any is loaded: a corrupt header must not ask for gigabytes."""
     try:
-        with np.load(path) as data:
-            weight, bias = data["weight"].astype(np.float32), data["bias"].astype(np.float32)
-    except (OSError, KeyError, ValueError) as exc:
-        raise InputError(f"cannot read classifier {path} ({exc}); re-run training") from exc
-    if weight.ndim != 2 or weight.shape[1] != IDENTITY_DIM or bias.shape != (weight.shape[0],):
-        raise InputError(f"classifier {path} has weight {weight.shape} and bias {bias.shape}, not (C, "
-                         f"{IDENTITY_DIM}) and (C,); re-run training")
+        with zipfile.ZipFile(path) as archive:
+            shapes = {name: _npy_header(archive, f"{name}.npy") for name in ("weight", "bias")}
+            (classes, *rest), bias = shapes["weight"], shapes["bias"]
+            if rest != [IDENTITY_DIM] or bias != (classes,) or not 0 < classes <= MAX_CLASSES:
+                raise InputError(f"classifier {path} has weight {shapes['weight']} and bias {bias}, not (C, "
+                                 f"{IDENTITY_DIM}) and (C,) with C in 1..{MAX_CLASSES}; re-run training")
+            with np.load(path, allow_pickle=False) as data:
+                weight, bias = data["weight"].astype(np.float32), data["bias"].astype(np.float32)
+    except InputError:
+        raise
+    except (OSError, KeyError, ValueError, EOFError, RuntimeError, NotImplementedError, zipfile.BadZipFile,
+            zlib.error) as exc:  # zipfile raises RuntimeError for 'encrypted', NotImplementedError for a method
+        raise InputError(f"cannot read classifier {path} ({str(exc)[:120]}); re-run training") from exc
+    if not (np.isfinite(weight).all() and np.isfinite(bias).all()):
+        raise InputError(f"classifier {path} holds NaN or infinite weights; re-run training")
     return weight, bias
+
+
+def _npy_header(archive: zipfile.ZipFile, member: str) -> tuple:
+    """The shape in one .npy member's header, its dtype checked to be numeric (no data read)."""
+    with archive.open(member) as f:
+        version = np.lib.format.read_magic(f)
+        read = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+        shape, _, dtype = read(f)
+    if dtype.kind not in "fiu":
+        raise ValueError(f"{member} holds {dtype}, not numbers")
+    return tuple(shape)
 
 
 def write_classifier(path: Path, weight: np.ndarray, bias: np.ndarray) -> None:

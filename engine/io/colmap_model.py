@@ -43,7 +43,7 @@ def read_model(model_dir: Path) -> ColmapModel:
         raw_cameras = colmap_files.read_cameras(paths["cameras"])
         raw_images = colmap_files.read_images(paths["images"])
         points, colors = colmap_files.read_points(paths["points3D"])
-    except (ValueError, IndexError, UnicodeDecodeError) as exc:
+    except (ValueError, IndexError, OverflowError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot parse the COLMAP model in {model_dir} ({exc}); re-export it") from exc
     if not raw_images:
         raise InputError(f"the COLMAP model in {model_dir} has no images; re-run the reconstruction")

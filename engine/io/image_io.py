@@ -12,18 +12,29 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from engine.base.c_streams import captured_c_output
 from engine.base.errors import InputError
+from engine.formats.checks import check_pixels, png_size
+from engine.formats.exr_header import check_exr_header
 
 
-def read_png(path: Path, kind: str = "image") -> np.ndarray:
-    """Read a PNG (or any format OpenCV reads) as RGB uint8 (H, W, 3), or (H, W) for masks."""
+def read_png(path: Path, kind: str = "image", size: tuple[int, int] | None = None) -> np.ndarray:
+    """Read a PNG (or any format OpenCV reads) as RGB uint8 (H, W, 3), or (H, W) for masks. A PNG's size
+    is checked from its header before decoding (a small file may declare a huge image): within the pixel
+    limit, and equal to `size` (width, height) when given, as a view's camera gives it."""
     path = Path(path)
     if not path.is_file():
         raise InputError(f"missing {kind} file {path}: restore it or regenerate the scene")
+    declared = png_size(path)
+    if declared is not None:
+        check_pixels(*declared, path)
+        _check_size(path, declared, size)
     flag = cv2.IMREAD_UNCHANGED if kind == "mask" else cv2.IMREAD_COLOR
-    array = cv2.imread(str(path), flag)
+    with captured_c_output() as said:
+        array = cv2.imread(str(path), flag)
     if array is None:
-        raise InputError(f"cannot decode {kind} file {path}: it is corrupt or not an image; replace it")
+        why = f" ({said[0][:120]})" if said else ""
+        raise InputError(f"cannot decode {kind} file {path}{why}: it is corrupt or not an image; replace it")
     if kind == "mask":
         if array.ndim == 3:
             array = array[..., 0]
@@ -43,26 +54,56 @@ def write_png(path: Path, array: np.ndarray) -> None:
         raise InputError(f"cannot write {path}: check that the folder exists and is writable")
 
 
-def read_exr_channels(path: Path) -> dict[str, np.ndarray]:
-    """All channels of an EXR, single- or multi-part, as {channel name: (H, W) float32}."""
+def _check_size(path: Path, declared: tuple[int, int], size: tuple[int, int] | None) -> None:
+    if size is not None and tuple(declared) != tuple(size):
+        raise InputError(f"{path} is {declared[0]}x{declared[1]} but its camera is {size[0]}x{size[1]}; resize it "
+                         "or fix the COLMAP camera")
+
+
+def read_exr_channels(path: Path, size: tuple[int, int] | None = None) -> dict[str, np.ndarray]:
+    """All channels of an EXR, single- or multi-part, as {channel name: (H, W) float32}; its header checked
+    first (and its size against `size`, width and height, when given)."""
     import OpenImageIO as oiio  # only EXR needs it; training-only machines can do without
 
     path = Path(path)
     if not path.is_file():
         raise InputError(f"missing EXR file {path}: restore it or regenerate the scene")
-    buf = oiio.ImageBuf(str(path))
-    if buf.has_error:
-        raise InputError(f"cannot read EXR {path}: {buf.geterror().splitlines()[0]}; replace the file")
+    _check_size(path, check_exr_header(path), size)  # OpenEXR itself crashes (SIGFPE) on some corrupt headers
     channels: dict[str, np.ndarray] = {}
-    for part in range(max(buf.nsubimages, 1)):
-        sub = oiio.ImageBuf(str(path), part, 0)
-        pixels = sub.get_pixels(oiio.FLOAT)
-        if sub.has_error or pixels is None:
-            raise InputError(f"cannot read EXR {path} part {part}: the file is truncated or corrupt")
-        pixels = pixels.reshape(sub.spec().height, sub.spec().width, -1)
-        for k, name in enumerate(sub.spec().channelnames):
-            channels[name] = pixels[..., k].astype(np.float32)
+    with captured_c_output():
+        parts = _exr_parts(oiio, path)
+        for part, spec in enumerate(parts):
+            sub = oiio.ImageBuf(str(path), part, 0)
+            pixels = sub.get_pixels(oiio.FLOAT)
+            failed = sub.has_error and bool(sub.geterror())  # taken, or OpenImageIO prints it at exit
+            if failed or pixels is None or pixels.size != spec.width * spec.height * spec.nchannels:
+                raise InputError(f"cannot read EXR {path} part {part}: the file is truncated or corrupt; replace it")
+            pixels = pixels.reshape(spec.height, spec.width, -1)
+            for k, name in enumerate(spec.channelnames):
+                channels[name] = pixels[..., k].astype(np.float32)
     return channels
+
+
+def _exr_parts(oiio, path: Path) -> list:
+    """Each part's header (size checked against the pixel limit), read before any pixel is decoded."""
+    image = oiio.ImageInput.open(str(path))
+    if image is None:
+        message = oiio.geterror()
+        message = message.encode("utf-8", "replace").decode("utf-8", "replace") if isinstance(message, str) \
+            else bytes(message).decode("utf-8", "replace")
+        first = (message.splitlines() or ["not an image"])[0][:120]
+        raise InputError(f"cannot read EXR {path}: {first}; replace the file")
+    specs = []
+    try:
+        while image.seek_subimage(len(specs), 0):
+            spec = image.spec()
+            check_pixels(spec.width, spec.height * max(spec.nchannels, 1), path)
+            specs.append(spec)
+    finally:
+        image.close()
+    if not specs:
+        raise InputError(f"cannot read EXR {path}: it holds no image; replace the file")
+    return specs
 
 
 def exr_name(name: str) -> str:
@@ -70,9 +111,9 @@ def exr_name(name: str) -> str:
     return str(Path(name).with_suffix(".exr"))
 
 
-def read_depth(path: Path) -> np.ndarray:
-    """Read a one-channel depth EXR as (H, W) float32."""
-    channels = read_exr_channels(path)
+def read_depth(path: Path, size: tuple[int, int] | None = None) -> np.ndarray:
+    """Read a one-channel depth EXR as (H, W) float32 (of `size`, width and height, when given)."""
+    channels = read_exr_channels(path, size)
     if len(channels) != 1:
         raise InputError(f"depth EXR {path} has channels {sorted(channels)}; expected one (Y or Z)")
     return next(iter(channels.values()))

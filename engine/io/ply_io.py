@@ -59,6 +59,8 @@ def load_ply(path: Path) -> Gaussians:
     gaussians["identity"] = stack(identity) if has_identity else torch.zeros(n, IDENTITY_DIM)
     if not all(torch.isfinite(v).all() for v in gaussians.values()):
         raise InputError(f"{path} holds NaN or infinite values: the training that wrote it diverged")
+    if (gaussians["quats"].norm(dim=1) < 1e-12).any():
+        raise InputError(f"{path} holds Gaussians whose rotation (rot_0..3) is all zero; re-export it")
     return gaussians
 
 

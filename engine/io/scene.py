@@ -15,7 +15,6 @@ Everything present is loaded and checked, or loading fails with one line naming 
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -23,6 +22,7 @@ import numpy as np
 
 from engine.base.errors import InputError
 from engine.formats.cameras import Camera
+from engine.formats.checks import read_json
 from engine.formats.colmap_files import find_model_dir
 from engine.formats.layout import SceneLayout
 from engine.io.colmap_model import read_model
@@ -91,16 +91,13 @@ def load_scene(root: Path | str, resolution: int = 1) -> Scene:
     scene = Scene(root=root, cameras=model.cameras, images=images, points=model.points,
                   colors=model.colors, train=train, test=test)
     if layout.masks.is_dir():
-        scene.masks = [_checked(read_png(layout.masks / _png(n), "mask"), cam, layout.masks / _png(n))
-                       for n, cam in zip(names, model.cameras, strict=True)]
+        scene.masks = [_read_view_mask(layout.masks, cam) for cam in model.cameras]
         scene.objects = _read_objects(layout.objects_json, scene.masks)
     if layout.depth.is_dir():
         scene.depths = [_read_view_depth(layout.depth, cam) for cam in model.cameras]
     scene.gt_images = _read_optional_views(layout.gt, scene, lambda p, c: _read_view_image(p, c))
     scene.gt_depths = _read_optional_views(layout.gt_depth, scene, _read_view_depth)
-    scene.holes = _read_optional_views(
-        layout.holes, scene, lambda p, c: _checked(read_png(p / _png(c.name), "mask"), c, p / _png(c.name)) > 127
-    )
+    scene.holes = _read_optional_views(layout.holes, scene, lambda p, c: _read_view_mask(p, c) > 127)
     return scene
 
 
@@ -120,12 +117,17 @@ def _checked(array: np.ndarray, camera: Camera, path: Path) -> np.ndarray:
 def _read_view_image(folder: Path, camera: Camera) -> np.ndarray:
     if not folder.is_dir():
         raise InputError(f"missing image folder {folder}: a scene needs images/ beside sparse/")
-    return _checked(read_png(folder / camera.name), camera, folder / camera.name)
+    return _checked(read_png(folder / camera.name, size=camera.size), camera, folder / camera.name)
+
+
+def _read_view_mask(folder: Path, camera: Camera) -> np.ndarray:
+    path = folder / _png(camera.name)
+    return _checked(read_png(path, "mask", camera.size), camera, path)
 
 
 def _read_view_depth(folder: Path, camera: Camera) -> np.ndarray:
     path = folder / exr_name(camera.name)
-    return _checked(read_depth(path), camera, path)
+    return _checked(read_depth(path, camera.size), camera, path)
 
 
 def _read_optional_views(folder: Path, scene: Scene, read) -> dict[int, np.ndarray]:
@@ -145,7 +147,7 @@ def _read_split(root: Path, names: list[str]) -> tuple[list[int], list[int]]:
     if not path.is_file():
         test = [i for i in range(len(names)) if i % LLFF_HOLD == 0]
         return [i for i in range(len(names)) if i not in test], test
-    split = _read_json(path)
+    split = read_json(path)
     index = {n: i for i, n in enumerate(names)}
     try:
         train, test = ([index[n] for n in split[key]] for key in ("train", "test"))
@@ -159,18 +161,15 @@ def _read_objects(path: Path, masks: list[np.ndarray]) -> list[SceneObject]:
     if not path.is_file():
         ids = sorted(set(np.unique(np.concatenate([np.unique(m) for m in masks]))) - {0})
         return [SceneObject(int(i), f"object_{i}", False) for i in ids]
-    entries = _read_json(path)
+    entries = read_json(path)
     try:
         objects = [SceneObject(int(e["id"]), str(e["name"]), bool(e["target"])) for e in entries]
-    except (KeyError, TypeError, ValueError) as exc:
+    except (KeyError, TypeError, ValueError, OverflowError) as exc:
         raise InputError(f"{path} entries need id, name and target ({exc}); fix the file") from exc
+    if any(not 0 < o.id < 256 for o in objects):
+        raise InputError(f"{path}: object ids must lie in 1..255 (the masks' 8-bit ids); fix the file")
     if sum(o.target for o in objects) > 1:
         raise InputError(f"{path} marks more than one target object; mark exactly one")
     return objects
 
 
-def _read_json(path: Path):
-    try:
-        return json.loads(path.read_text())
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path} is not valid JSON ({exc.args[0]}); fix or regenerate it") from exc

@@ -32,7 +32,7 @@ def camera_models(model_dir: Path) -> set[str]:
     ext = colmap_files.model_ext(model_dir)
     try:
         return {c.model for c in colmap_files.read_cameras(model_dir / f"cameras{ext}").values()}
-    except (OSError, ValueError, IndexError, UnicodeDecodeError) as exc:
+    except (OSError, ValueError, IndexError, OverflowError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot parse {model_dir / f'cameras{ext}'} ({exc}); re-export the model") from exc
 
 

@@ -15,6 +15,9 @@ blended first and classified per pixel.
 
 from __future__ import annotations
 
+import contextlib
+import functools
+import sys
 from dataclasses import dataclass
 
 import torch
@@ -60,6 +63,16 @@ def default_backend(device: torch.device | str) -> str:
     return "gsplat" if torch.device(device).type == "cuda" else "reference"
 
 
+@functools.cache
+def gsplat_rasterization():
+    """gsplat's rasterization, its CUDA extension built or loaded first with its messages ("gsplat: CUDA
+    extension has been set up ...") sent to stderr: stdout carries the add-on's JSON lines."""
+    with contextlib.redirect_stdout(sys.stderr):
+        from gsplat import rasterization
+        from gsplat.cuda._backend import _C  # noqa: F401  -- the build happens here, on first use
+    return rasterization
+
+
 def render(gaussians: Gaussians, camera: CameraTensors, sh_degree: int, backend: str | None = None,
            classifier: torch.nn.Linear | None = None, depth: bool = True) -> RenderOutput:
     """Render `gaussians` (see engine.io.gaussians) seen by `camera`, using SH bands up to `sh_degree`;
@@ -74,8 +87,7 @@ def render(gaussians: Gaussians, camera: CameraTensors, sh_degree: int, backend:
     args = (means, gaussians["quats"], torch.exp(gaussians["scales"]), torch.sigmoid(gaussians["opacities"]),
             features)
     if backend == "gsplat":
-        from gsplat import rasterization
-
+        rasterization = gsplat_rasterization()
         colors, alphas, info = rasterization(*args, camera.viewmat[None], camera.K[None], camera.width,
                                              camera.height, near_plane=NEAR_PLANE, far_plane=FAR_PLANE,
                                              eps2d=EPS2D, sh_degree=None, packed=False,

@@ -37,6 +37,7 @@ from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import emit
 from engine.formats.cameras import Camera, project, sample_nearest
+from engine.formats.checks import read_json
 from engine.formats.layout import SegmentsLayout
 from engine.formats.splat_ply import IDENTITY_DIM
 from engine.io.extent import bounding_box, inside_box
@@ -260,7 +261,7 @@ def read_segment_objects(layout) -> list[SceneObject]:
     path = layout.segments.objects_json
     try:
         return [SceneObject(int(e["id"]), str(e["name"]), bool(e.get("target", False)))
-                for e in json.loads(path.read_text())]
-    except (OSError, ValueError, TypeError, KeyError) as exc:
+                for e in read_json(path)]
+    except (OSError, ValueError, TypeError, KeyError, OverflowError) as exc:
         raise InputError(f"cannot read {path} ({exc}); delete {layout.segments.root} and run "
                          "`python -m engine segment` again") from exc

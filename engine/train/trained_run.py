@@ -7,7 +7,6 @@ obj_dc_* identities) and classifier.npz; the scene it was trained on is named in
 from __future__ import annotations
 
 import dataclasses
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -15,6 +14,7 @@ import numpy as np
 import torch
 
 from engine.base.errors import InputError
+from engine.formats.checks import read_json
 from engine.formats.layout import RunLayout
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import read_png
@@ -46,9 +46,9 @@ def _read_run(root: Path, scene: Path | str | None) -> tuple[TrainConfig, int, P
             raise InputError(f"{path} missing: {root} is not a finished training run "
                              f"(train with `python -m engine train --scene DIR --out {root}`, or --resume it)")
     try:
-        config = TrainConfig(**json.loads(layout.config_json.read_text()))
-        steps = int(json.loads(layout.metrics_json.read_text())["steps"])
-    except (ValueError, TypeError, KeyError) as exc:
+        config = TrainConfig(**read_json(layout.config_json))
+        steps = int(read_json(layout.metrics_json)["steps"])
+    except (ValueError, TypeError, KeyError, OverflowError) as exc:
         raise InputError(f"cannot read {root}/config.json or metrics.json ({exc}); re-run training") from exc
     scene_dir = Path(scene) if scene is not None else Path(config.scene)
     if not scene_dir.is_dir():

@@ -1,0 +1,36 @@
+"""Keeping C libraries' chatter off the JSON-lines stream and out of the one-line errors.
+
+libpng, OpenCV and OpenImageIO print warnings straight to file descriptors 1 and 2 (a corrupt EXR printed
+four lines on stdout, which the add-on parses as JSON lines). Around a decode, both descriptors point at a
+temporary file; what the library said comes back to the caller, to put in its error or drop.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import sys
+import tempfile
+from collections.abc import Iterator
+
+
+@contextlib.contextmanager
+def captured_c_output() -> Iterator[list[str]]:
+    """Within the block, writes to fds 1 and 2 land in a temp file; afterwards the list holds its lines."""
+    lines: list[str] = []
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(AttributeError, ValueError, OSError):
+            stream.flush()
+    with tempfile.TemporaryFile() as sink:
+        saved = [os.dup(1), os.dup(2)]
+        try:
+            os.dup2(sink.fileno(), 1)
+            os.dup2(sink.fileno(), 2)
+            yield lines
+        finally:
+            os.dup2(saved[0], 1)
+            os.dup2(saved[1], 2)
+            for fd in saved:
+                os.close(fd)
+            sink.seek(0)
+            lines.extend(sink.read().decode("utf-8", "replace").splitlines())
