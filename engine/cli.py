@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import sys
@@ -11,6 +12,7 @@ import traceback
 from pathlib import Path
 
 from engine.base.errors import Cancelled, InputError
+from engine.base.progress import say
 from engine.formats.checks import LIMITS
 
 
@@ -26,13 +28,13 @@ def _info(args: argparse.Namespace) -> None:
 
     scene = load_scene(args.scene, args.resolution)
     cam = scene.cameras[0]
-    print(f"{scene.root}: {len(scene.cameras)} views ({len(scene.train)} train, {len(scene.test)} test), "
+    say(f"{scene.root}: {len(scene.cameras)} views ({len(scene.train)} train, {len(scene.test)} test), "
           f"{cam.width}x{cam.height}, {len(scene.points)} points")
     for obj in scene.objects:
-        print(f"  object {obj.id}: {obj.name}{' (target)' if obj.target else ''}")
-    print(f"  masks: {scene.masks is not None}, depth: {scene.depths is not None}, gt views: {len(scene.gt_images)}, "
+        say(f"  object {obj.id}: {obj.name}{' (target)' if obj.target else ''}")
+    say(f"  masks: {scene.masks is not None}, depth: {scene.depths is not None}, gt views: {len(scene.gt_images)}, "
           f"hole masks: {len(scene.holes)}")
-    print(f"  sparse points lie in {describe_extent(scene.points)} (1st to 99th percentile; --box takes this frame)")
+    say(f"  sparse points lie in {describe_extent(scene.points)} (1st to 99th percentile; --box takes this frame)")
 
 
 def _preview(args: argparse.Namespace) -> None:
@@ -40,7 +42,7 @@ def _preview(args: argparse.Namespace) -> None:
     from engine.pictures.preview import write_scene_preview
 
     path = write_scene_preview(load_scene(args.scene, args.resolution), Path(args.out), rows=args.rows)
-    print(f"wrote {path}")
+    say(f"wrote {path}")
 
 
 def _train(args: argparse.Namespace) -> None:
@@ -298,8 +300,13 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     LIMITS.pixels, LIMITS.gaussians = args.limit_pixels, args.limit_gaussians
     debug = args.debug or os.environ.get("SPLATFILL_DEBUG") == "1"
-    if not sys.stdout.isatty():
-        json_only_stdout()
+    with contextlib.ExitStack() as stack:
+        if not sys.stdout.isatty():
+            stack.enter_context(json_only_stdout())
+        return _run(args, debug)
+
+
+def _run(args: argparse.Namespace, debug: bool) -> int:
     try:
         args.handler(args)
     except InputError as exc:
@@ -333,10 +340,18 @@ def write_traceback() -> Path:
     return Path(f.name)
 
 
-def json_only_stdout() -> None:
-    """Point fd 1 at stderr, and Python's stdout at a copy of the real stdout: our JSON lines still reach
-    the add-on, while whatever C code prints to fd 1 (OpenImageIO, libpng, a compiler) goes to stderr."""
+@contextlib.contextmanager
+def json_only_stdout():
+    """Within, fd 1 points at stderr and Python's stdout at a copy of the real stdout: our JSON lines still
+    reach the add-on, while whatever C code prints to fd 1 (OpenImageIO, libpng, a compiler) goes to stderr."""
     sys.stdout.flush()
-    real = os.dup(1)
+    saved, real = sys.stdout, os.dup(1)
     os.dup2(2, 1)
-    sys.stdout = os.fdopen(real, "w", buffering=1, encoding="utf-8")
+    sys.stdout = os.fdopen(os.dup(real), "w", buffering=1, encoding="utf-8")
+    try:
+        yield
+    finally:
+        sys.stdout.close()
+        sys.stdout = saved
+        os.dup2(real, 1)
+        os.close(real)

@@ -224,7 +224,6 @@ def test_an_internal_error_is_one_line_with_the_traceback_in_a_file(monkeypatch,
         raise ZeroDivisionError("a bug of ours")
 
     monkeypatch.setattr(cli, "_version", broken)
-    monkeypatch.setattr(cli, "json_only_stdout", lambda: None)
     assert cli.main(["version"]) == 1
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and err.startswith("error: internal error: ZeroDivisionError: a bug of ours")

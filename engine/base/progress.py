@@ -41,6 +41,11 @@ class Progress:
             self.bar.close()
 
 
+def say(text: str) -> None:
+    """A line for people: stdout on a terminal; stderr when stdout is the add-on's JSON-lines stream."""
+    print(text, file=sys.stdout if sys.stdout.isatty() else sys.stderr, flush=True)
+
+
 def emit(event: str, **fields: object) -> None:
     """One non-progress JSON line (e.g. {"event": "done", "out": ...}) for the add-on; silent on a TTY."""
     if json_mode():
