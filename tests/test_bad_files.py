@@ -19,7 +19,6 @@ from engine.base.errors import InputError
 from tests.bad_files import write_seeds
 
 REPO = Path(__file__).resolve().parent.parent
-pytestmark = pytest.mark.fast
 
 
 @pytest.fixture(scope="module")

@@ -23,6 +23,7 @@ import numpy as np
 from ..base.errors import InputError
 
 JSON_DEPTH = 32  # our JSON files nest 3 deep; a file nested deeper is not one of them
+JSON_BYTES = 256 << 20  # a scene's largest JSON (cameras.json of 10k views) is a few MB
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
@@ -54,6 +55,9 @@ def read_json(path: Path | str):
     """A JSON file's value: nested at most JSON_DEPTH deep, every number finite (1e400 and NaN refused)."""
     path = Path(path)
     try:
+        if path.stat().st_size > JSON_BYTES:
+            raise InputError(f"{path} is {path.stat().st_size:,} bytes, more than any splatfill JSON file "
+                             f"({JSON_BYTES:,}); is it the right file?")
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise InputError(f"cannot read {path} ({exc.strerror}); check the path") from exc
