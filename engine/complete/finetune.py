@@ -55,7 +55,7 @@ def hole_gaussians(scene: Scene, holes: dict[int, np.ndarray], depths: dict[int,
     points, colors, sizes = [], [], []
     for i, depth in depths.items():
         camera = scene.cameras[i]
-        image = read_png(inpainted.images / camera.name)
+        image = read_png(inpainted.images / camera.name, size=camera.size)
         take = holes[i] & np.isfinite(depth) & (depth > 0)
         grid = np.zeros_like(take)
         grid[::stride, ::stride] = True

@@ -40,4 +40,5 @@ def score_run(run_dir: Path, scorer: Scorer, renders: Path | None = None) -> Sco
 def score_removed(scene: Scene, removed: RemovedLayout, scorer: Scorer) -> Scores:
     """The same scores for the removed-but-unfilled scene's renders (the floor every method must beat)."""
     views, truths, holes = _test_sets(scene)
-    return scorer.score([read_png(removed.images / scene.cameras[i].name) for i in views], truths, holes)
+    renders = [read_png(removed.images / scene.cameras[i].name, size=scene.cameras[i].size) for i in views]
+    return scorer.score(renders, truths, holes)

@@ -34,7 +34,7 @@ def write_training_scene(scene: Scene, inpainted: InpaintedLayout, target_id: in
         if i in scene.test:
             image = scene.gt_images.get(i, scene.images[i])
         else:
-            image = read_png(inpainted.images / camera.name)
+            image = read_png(inpainted.images / camera.name, size=camera.size)
             if keep is not None:
                 image = np.where(keep[i][..., None], image, scene.images[i])
         write_png(out.images / camera.name, image)

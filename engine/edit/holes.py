@@ -71,7 +71,7 @@ def run_holes(config: HoleConfig) -> dict:
     scene, device = run.scene, pick_device(config.device)
     train_cameras = [scene.cameras[i] for i in scene.train]
     seen_depths = render_depths(run.gaussians, train_cameras, run.sh_degree, device, "holes: original depth")
-    regions = [read_png(removed.masks / camera.name, kind="mask") > 0 for camera in scene.cameras]
+    regions = [read_png(removed.masks / camera.name, "mask", camera.size) > 0 for camera in scene.cameras]
     up = mean_up(np.stack([c.R for c in scene.cameras]))
     plane = (support_plane(train_cameras, [regions[i] for i in scene.train], seen_depths, config.rel_tol, up)
              if config.support_plane else None)

@@ -21,4 +21,4 @@ def dilate(mask: np.ndarray, pixels: int) -> np.ndarray:
 
 def read_masks(folder: Path, cameras: list[Camera], pixels: int = 0) -> dict[int, np.ndarray]:
     """Each view's mask PNG in `folder` (a stage's holes/ or masks/) as bool, grown by `pixels`."""
-    return {i: dilate(read_png(folder / c.name, kind="mask") > 0, pixels) for i, c in enumerate(cameras)}
+    return {i: dilate(read_png(folder / c.name, "mask", c.size) > 0, pixels) for i, c in enumerate(cameras)}

@@ -198,7 +198,8 @@ def _from_masks(run, means: np.ndarray, config: SegmentConfig, device: torch.dev
     folder = Path(config.from_masks)
     if not folder.is_dir():
         raise InputError(f"mask folder {folder} does not exist: give per-view PNGs named like the images")
-    masks = [read_png(folder / Path(scene.cameras[i].name).with_suffix(".png"), kind="mask") for i in views]
+    masks = [read_png(folder / Path(scene.cameras[i].name).with_suffix(".png"), "mask",
+                      scene.cameras[i].size) for i in views]
     cameras = [scene.cameras[i] for i in views]
     depths = render_depths(run.gaussians, cameras, run.sh_degree, device, "segment: depth")
     return lift_masks(means, cameras, masks, depths, config.rel_tol, config.join)

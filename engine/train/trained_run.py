@@ -73,7 +73,7 @@ def _scene_with_segments(scene: Scene, layout: RunLayout, objects: list[SceneObj
     if objects is None:
         return scene
     folder = layout.segments.masks
-    masks = [read_png(folder / Path(c.name).with_suffix(".png"), kind="mask") for c in scene.cameras]
+    masks = [read_png(folder / Path(c.name).with_suffix(".png"), "mask", c.size) for c in scene.cameras]
     return dataclasses.replace(scene, objects=objects, masks=masks)
 
 
