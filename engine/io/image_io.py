@@ -88,9 +88,10 @@ def _exr_parts(oiio, path: Path) -> list:
     """Each part's header (size checked against the pixel limit), read before any pixel is decoded."""
     image = oiio.ImageInput.open(str(path))
     if image is None:
-        message = oiio.geterror()
-        message = message.encode("utf-8", "replace").decode("utf-8", "replace") if isinstance(message, str) \
-            else bytes(message).decode("utf-8", "replace")
+        try:
+            message = oiio.geterror()
+        except UnicodeDecodeError:  # the library's message may quote the file's bytes
+            message = "unreadable header"
         first = (message.splitlines() or ["not an image"])[0][:120]
         raise InputError(f"cannot read EXR {path}: {first}; replace the file")
     specs = []
