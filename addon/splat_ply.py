@@ -7,13 +7,12 @@ It needs no bpy, so the tests check it without Blender. The groups come from the
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .formats import layout, splat_ply
+from .formats import InputError, checks, layout, splat_ply
 
 
 @dataclass
@@ -56,8 +55,8 @@ def scene_of(ply: Path) -> Path | None:
     """The scene folder of the run a .ply belongs to (its config.json names it), if both are there."""
     run = layout.run_of(ply)
     try:
-        scene = Path(json.loads(run.config_json.read_text())["scene"]) if run and run.config_json.is_file() else None
-    except (OSError, ValueError, KeyError):
+        scene = Path(checks.read_json(run.config_json)["scene"]) if run and run.config_json.is_file() else None
+    except (InputError, KeyError, TypeError):
         return None
     return scene if scene is not None and scene.is_dir() else None
 
@@ -67,13 +66,13 @@ def _segment_groups(run: layout.RunLayout, v: np.ndarray, has_identity: bool) ->
     one-hot identities it gave the Gaussians for a .ply made from the run afterwards (removed, completed)."""
     names = {0: "background"}
     try:
-        names.update({int(e["id"]): str(e["name"]) for e in json.loads(run.segments.objects_json.read_text())})
+        names.update({int(e["id"]): str(e["name"]) for e in checks.read_json(run.segments.objects_json)})
         ids = np.load(run.segments.ids) if run.segments.ids.is_file() else np.zeros(0)
-    except (OSError, ValueError, KeyError, TypeError):
+    except (InputError, OSError, ValueError, KeyError, TypeError, OverflowError):
         return np.zeros(len(v), np.int32), {0: "background"}
     if len(ids) == len(v):
         return ids.astype(np.int32), names
-    if has_identity:
+    if has_identity and max(names) < splat_ply.IDENTITY_DIM:
         identity = np.stack([v[f"obj_dc_{i}"] for i in range(max(names) + 1)], axis=1)
         return identity.argmax(1).astype(np.int32), names
     return np.zeros(len(v), np.int32), names
@@ -84,9 +83,9 @@ def _object_names(run: layout.RunLayout, classes: int) -> dict[int, str]:
     names = {i: f"object_{i}" for i in range(classes)}
     names[0] = "background"
     try:
-        scene = Path(json.loads(run.config_json.read_text())["scene"]) if run.config_json.is_file() else None
-        entries = json.loads(layout.SceneLayout(scene).objects_json.read_text()) if scene else []
-    except (OSError, ValueError, KeyError):
+        scene = Path(checks.read_json(run.config_json)["scene"]) if run.config_json.is_file() else None
+        entries = checks.read_json(layout.SceneLayout(scene).objects_json) if scene else []
+        names.update({int(e["id"]): str(e["name"]) for e in entries if int(e["id"]) < classes})
+    except (InputError, KeyError, TypeError, ValueError, OverflowError):
         return names
-    names.update({int(e["id"]): str(e["name"]) for e in entries if int(e["id"]) < classes})
     return names
