@@ -300,9 +300,7 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     LIMITS.pixels, LIMITS.gaussians = args.limit_pixels, args.limit_gaussians
     debug = args.debug or os.environ.get("SPLATFILL_DEBUG") == "1"
-    with contextlib.ExitStack() as stack:
-        if not sys.stdout.isatty():
-            stack.enter_context(json_only_stdout())
+    with contextlib.nullcontext() if sys.stdout.isatty() else json_only_stdout():
         return _run(args, debug)
 
 

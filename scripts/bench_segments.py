@@ -27,7 +27,6 @@ from scripts.bench_records import load_records, provenance, save_record, write_s
 RESULTS = REPO / "docs" / "benchmarks" / "segments"
 
 
-
 def _masks(segments: Path, names: list[str]):
     """The instance masks `segment` wrote into the segments folder `segments`, for these image names."""
     from engine.formats.layout import SegmentsLayout

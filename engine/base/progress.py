@@ -43,7 +43,7 @@ class Progress:
 
 def say(text: str) -> None:
     """A line for people: stdout on a terminal; stderr when stdout is the add-on's JSON-lines stream."""
-    print(text, file=sys.stdout if sys.stdout.isatty() else sys.stderr, flush=True)
+    print(text, file=sys.stderr if json_mode() else sys.stdout, flush=True)
 
 
 def emit(event: str, **fields: object) -> None:

@@ -121,9 +121,10 @@ def mean_up(rotations: np.ndarray) -> np.ndarray | None:
     """The cameras' mean up direction (unit), or None when they agree on none. `rotations` (K, 3, 3) are
     world-to-camera; a camera's up is its -y axis (OpenCV), which is -R[1] in the world. People hold a
     camera level, so this is the scene's up whatever axes SfM picked."""
-    up = -np.asarray(rotations).reshape(-1, 3, 3)[:, 1, :].sum(axis=0)
+    ups = -np.asarray(rotations).reshape(-1, 3, 3)[:, 1, :]
+    up = ups.sum(axis=0)
     norm = np.linalg.norm(up)
-    return up / norm if norm > 1e-9 * max(len(up), 1) else None
+    return up / norm if norm > 1e-9 * max(len(ups), 1) else None
 
 
 def upright_rotation(rotations: np.ndarray) -> np.ndarray:

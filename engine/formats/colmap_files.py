@@ -81,11 +81,13 @@ class _Reader:
 
 
 def _parsed(read):
-    """A reader whose malformed numbers and fields end in one InputError naming the file."""
+    """A reader whose unreadable file or malformed numbers and fields end in one InputError naming the file."""
     @functools.wraps(read)
     def wrapper(path: Path):
         try:
             return read(path)
+        except OSError as exc:
+            raise InputError(f"cannot read {path} ({exc.strerror}); check the path or re-export the model") from exc
         except (ValueError, IndexError, OverflowError, UnicodeDecodeError, struct.error) as exc:
             raise InputError(f"cannot parse {path} ({str(exc)[:100]}); re-export the COLMAP model") from exc
     return wrapper
@@ -206,11 +208,7 @@ def world_to_camera_rotations(scene_root: Path) -> np.ndarray:
     """(K, 3, 3) the world-to-camera rotations of a scene's views (for Blender-side code, which reads no
     more of a model than this)."""
     model_dir = find_model_dir(scene_root)
-    ext = ".bin" if (model_dir / "images.bin").is_file() else ".txt"
-    try:
-        images = read_images(model_dir / f"images{ext}")
-    except (OSError, ValueError, IndexError, OverflowError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot parse {model_dir / f'images{ext}'} ({exc}); re-export the model") from exc
+    images = read_images(model_dir / f"images{model_ext(model_dir)}")
     return np.array([quat_to_rotation(image.qvec) for image in images.values()]).reshape(-1, 3, 3)
 
 

@@ -80,9 +80,9 @@ def _check_part(header: dict[str, tuple[str, bytes]], tiled: bool, path: Path) -
     if missing:
         raise InputError(f"{path}: OpenEXR header lacks {', '.join(missing)} (or gives another type); the file "
                          "is corrupt, replace it")
-    for window in ("dataWindow", "displayWindow"):
-        x0, y0, x1, y1 = struct.unpack("<4i", header[window][1])
-        check_pixels(x1 - x0 + 1, y1 - y0 + 1, path)
+    size, display = (_window(header[name][1]) for name in ("dataWindow", "displayWindow"))
+    check_pixels(*size, path)
+    check_pixels(*display, path)
     aspect = struct.unpack("<f", header["pixelAspectRatio"][1])[0]
     if not 1e-6 < aspect < 1e6:
         raise InputError(f"{path}: OpenEXR pixel aspect ratio {aspect} is not positive; the file is corrupt")
@@ -95,7 +95,12 @@ def _check_part(header: dict[str, tuple[str, bytes]], tiled: bool, path: Path) -
         xs, ys = struct.unpack_from("<II", header["tiles"][1])
         if not (0 < xs <= 1 << 16 and 0 < ys <= 1 << 16):
             raise InputError(f"{path}: OpenEXR tile size {xs}x{ys} is not positive; the file is corrupt")
-    x0, y0, x1, y1 = struct.unpack("<4i", header["dataWindow"][1])
+    return size
+
+
+def _window(box: bytes) -> tuple[int, int]:
+    """(width, height) of a box2i (xmin, ymin, xmax, ymax, inclusive)."""
+    x0, y0, x1, y1 = struct.unpack("<4i", box)
     return x1 - x0 + 1, y1 - y0 + 1
 
 

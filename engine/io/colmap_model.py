@@ -39,12 +39,9 @@ def read_model(model_dir: Path) -> ColmapModel:
     for path in paths.values():
         if not path.is_file():
             raise InputError(f"missing {path}: the COLMAP model is incomplete; re-export it")
-    try:
-        raw_cameras = colmap_files.read_cameras(paths["cameras"])
-        raw_images = colmap_files.read_images(paths["images"])
-        points, colors = colmap_files.read_points(paths["points3D"])
-    except (ValueError, IndexError, OverflowError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot parse the COLMAP model in {model_dir} ({exc}); re-export it") from exc
+    raw_cameras = colmap_files.read_cameras(paths["cameras"])
+    raw_images = colmap_files.read_images(paths["images"])
+    points, colors = colmap_files.read_points(paths["points3D"])
     if not raw_images:
         raise InputError(f"the COLMAP model in {model_dir} has no images; re-run the reconstruction")
     cameras = [_camera(model_dir, image, raw_cameras) for image in raw_images.values()]

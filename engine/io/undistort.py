@@ -30,10 +30,7 @@ UNDISTORTED_MODELS = ("SIMPLE_RADIAL", "RADIAL", "OPENCV", "FULL_OPENCV")
 def camera_models(model_dir: Path) -> set[str]:
     """The camera models a COLMAP model uses."""
     ext = colmap_files.model_ext(model_dir)
-    try:
-        return {c.model for c in colmap_files.read_cameras(model_dir / f"cameras{ext}").values()}
-    except (OSError, ValueError, IndexError, OverflowError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot parse {model_dir / f'cameras{ext}'} ({exc}); re-export the model") from exc
+    return {c.model for c in colmap_files.read_cameras(model_dir / f"cameras{ext}").values()}
 
 
 def pinhole_scene(root: Path) -> Path:
