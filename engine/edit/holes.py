@@ -15,7 +15,9 @@ infinite depth is open sky.
 
 Before warping, rays of the object's region that the removed render lets through the support (the table
 under the object was never built, so the render shows its underside, which side views saw) are stopped at
-the support plane fitted around the object (engine.edit.support_plane). Optional: a margin around each view's
+the support plane the removal fitted to the Gaussians around the object (engine.edit.support_plane; fitted to
+rendered depth where removal.json has none). Depths are the rendered surface's (engine.render.surface_depth),
+and the tolerance grows beyond the object's depth (engine.io.visibility). Optional: a margin around each view's
 object mask that hides too, and dilation of the result (LaMa wants larger masks; the paper dilates).
 Measured choices in docs/BENCHMARKS.md.
 """
@@ -35,6 +37,7 @@ from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
 from engine.edit.support_plane import stop_at_plane, support_plane
 from engine.formats.cameras import mean_up
+from engine.formats.checks import read_json
 from engine.formats.layout import HolesLayout, RemovedLayout
 from engine.io.image_io import exr_name, read_depth, read_png, write_png
 from engine.io.masks import dilate
@@ -62,6 +65,20 @@ def iou(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.logical_and(a, b).sum() / union) if union else 1.0
 
 
+def _removal_plane(removed: RemovedLayout) -> tuple[np.ndarray, float] | None:
+    """The support plane `remove` fitted to the remaining Gaussians (engine.edit.support_plane.object_support),
+    if it found one: the Gaussians' centres put it within mm, rendered depth within cm."""
+    plane = read_json(removed.report).get("support_plane")
+    return (np.asarray(plane[:3], dtype=np.float64), float(plane[3])) if plane else None
+
+
+def _object_depth(depths: list[np.ndarray], regions: list[np.ndarray]) -> float | None:
+    """The median depth of the object in the training views: up to it the depth test's tolerance is
+    rel_tol, beyond it that grows with depth (engine.io.visibility.seen_by_any)."""
+    values = np.concatenate([d[r & np.isfinite(d)] for d, r in zip(depths, regions, strict=True)])
+    return float(np.median(values)) if values.size else None
+
+
 def run_holes(config: HoleConfig) -> dict:
     run = load_run(config.run, config.scene or None)
     removed = RemovedLayout(config.removed) if config.removed else run.layout.removed
@@ -73,8 +90,10 @@ def run_holes(config: HoleConfig) -> dict:
     seen_depths = render_depths(run.gaussians, train_cameras, run.sh_degree, device, "holes: original depth")
     regions = [read_png(removed.masks / camera.name, "mask", camera.size) > 0 for camera in scene.cameras]
     up = mean_up(np.stack([c.R for c in scene.cameras]))
-    plane = (support_plane(train_cameras, [regions[i] for i in scene.train], seen_depths, config.rel_tol, up)
+    plane = (_removal_plane(removed) or support_plane(train_cameras, [regions[i] for i in scene.train],
+                                                      seen_depths, config.rel_tol, up)
              if config.support_plane else None)
+    near = _object_depth(seen_depths, [regions[i] for i in scene.train])
     # the object's region in each training view: it hid whatever lies behind it there
     occluders = [dilate(regions[i], round(config.occluder_margin * np.hypot(scene.cameras[i].width,
                                                                          scene.cameras[i].height)))
@@ -90,7 +109,7 @@ def run_holes(config: HoleConfig) -> dict:
                 background = stop_at_plane(camera, region, background, plane, config.rel_tol)
             # where the removed scene renders no surface at all, nothing is there to show: hole
             hole = unseen_mask(camera, region, background, train_cameras, seen_depths, config.rel_tol,
-                               occluders)
+                               occluders, near)
             hole = dilate(hole | (region & ~np.isfinite(background)), config.dilate)
             write_png(tmp.mask(camera.name), hole.astype(np.uint8) * 255)
             record = {"view": camera.name, "region_px": int(region.sum()), "hole_px": int(hole.sum())}

@@ -9,8 +9,14 @@ in every training view that has it in frame. A table Gaussian seen beside the ob
 The output folder (default RUN/removed) holds the remaining Gaussians as a standard PLY, renders of every
 view (images/, depth/), the object's mask per view (masks/, the region stage 3 looks for holes in),
 removal.json (selection counts, config, PSNR against gt/ on test views outside the true hole, and on the
-revealed part of the object's region that other views saw: remnants of the object show there; gt/ also
-lacks the object's shadow, which bounds the first number), and a contact sheet.
+revealed part of the object's region that other views saw: remnants of the object show there), and a
+contact sheet.
+
+With `effects` (the default) the object's cast shadow goes too (engine.edit.effects): the Gaussians in it are
+relit before anything is rendered, so removed/ and every later stage see the scene without it, and RUN/effects
+holds each view's shadow mask (255 = relit), effects.json (light direction, gain, recall and precision against
+the scene's effects/ where it has them) and a contact sheet. The plane the object stood on, fitted to the
+remaining Gaussians, goes into removal.json for the hole masks.
 """
 
 from __future__ import annotations
@@ -25,10 +31,12 @@ import torch
 
 from engine.base.device import pick_device
 from engine.base.errors import InputError
-from engine.base.output_dir import atomic_output_dir
+from engine.base.output_dir import atomic_output_dir, check_new_output
 from engine.base.progress import Progress, emit
-from engine.formats.cameras import Camera, project, sample_nearest
-from engine.formats.layout import RemovedLayout
+from engine.edit.effects import EffectsConfig, Samples, Shadow, effect_mask, effect_weights, find_shadow, relight
+from engine.edit.support_plane import object_core, object_support
+from engine.formats.cameras import Camera, mean_up, project, sample_nearest
+from engine.formats.layout import EffectsLayout, RemovedLayout
 from engine.io.extent import inside_box
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import exr_name, write_depth, write_png
@@ -48,6 +56,7 @@ class RemovalConfig:
     threshold: float = 0.3  # object probability above which a Gaussian is removed (see docs/BENCHMARKS.md)
     hull: bool = True  # also remove Gaussians inside the object's visual hull (needs masks)
     hull_dilate: int = 2  # px added around the masks for the hull test
+    effects: bool = True  # also remove the object's cast shadow (relight it) and write RUN/effects
     out: str = ""  # default RUN/removed
     scene: str = ""  # default: the scene named in the run's config.json
     device: str = "auto"
@@ -99,32 +108,49 @@ def keep(gaussians: Gaussians, removed: np.ndarray) -> Gaussians:
 
 
 def run_removal(config: RemovalConfig) -> dict:
-    """Remove the object, render every view of what remains, and write the output folder atomically."""
+    """Remove the object (and its shadow), render every view of what remains, and write the output folders
+    atomically."""
     if bool(config.box) == bool(config.object):
         raise InputError("give either --object ID_OR_NAME or --box x0 y0 z0 x1 y1 z1")
     config = dataclasses.replace(config, box=[float(v) for v in config.box])
     run = load_run(config.run, config.scene or None)
     out = Path(config.out) if config.out else run.layout.removed.root
+    effects_out = EffectsLayout(out.parent / "effects") if config.out else run.layout.effects
+    check_new_output(out)
+    if config.effects:
+        check_new_output(effects_out.root)
     device = pick_device(config.device)
     removed, counts = select(run, config)
-    remaining = keep(run.gaussians, removed)
+    remaining, gone = keep(run.gaussians, removed), keep(run.gaussians, ~removed)
     scene = run.scene
     obj = scene.object_by(config.object) if config.object else None
+    up = mean_up(np.stack([c.R for c in scene.cameras]))
+    plane = object_support(remaining["means"].numpy(), object_core(gone, up), up)
+    # the object's region: the scene's masks, else the original's rendered labels; for a box, where
+    # the removed Gaussians alone cover a pixel (renders only when the masks do not say)
+    if obj is not None and scene.masks is not None:
+        regions = [scene.masks[i] == obj.id for i in range(len(scene.cameras))]
+    else:
+        source = run.gaussians if obj is not None else gone
+        regions = [_object_region(scene, i, obj, picture) for i, picture in
+                   enumerate(render_pictures(source, scene.cameras, run.sh_degree, device, run.classifier))]
+    after = list(render_pictures(remaining, scene.cameras, run.sh_degree, device))
+    shadow = None
+    if config.effects:
+        train = scene.train
+        samples = Samples.from_views([scene.cameras[i] for i in train], [after[i].rgb for i in train],
+                                     [after[i].depth for i in train], [regions[i] for i in train])
+        shadow = find_shadow(remaining, gone, up, samples, EffectsConfig())
+        if shadow is not None:
+            remaining = relight(remaining, shadow)
+            relit = render_pictures(remaining, scene.cameras, run.sh_degree, device, depth=False)
+            after = [dataclasses.replace(old, rgb=new.rgb) for old, new in zip(after, relit, strict=True)]
     with atomic_output_dir(out) as tmp_root:
         tmp = RemovedLayout(tmp_root)
         save_ply(tmp.point_cloud, remaining)
         progress = Progress("removal", len(scene.cameras))
-        # the object's region: the scene's masks, else the original's rendered labels; for a box, where
-        # the removed Gaussians alone cover a pixel (renders only when the masks do not say)
-        if obj is not None and scene.masks is not None:
-            regions = [None] * len(scene.cameras)
-        else:
-            source = run.gaussians if obj is not None else keep(run.gaussians, ~removed)
-            regions = render_pictures(source, scene.cameras, run.sh_degree, device, run.classifier)
-        after = render_pictures(remaining, scene.cameras, run.sh_degree, device)
         scores, revealed, sheet = [], [], []
-        for i, (camera, original, picture) in enumerate(zip(scene.cameras, regions, after, strict=True)):
-            region = _object_region(scene, i, obj, original)
+        for i, (camera, region, picture) in enumerate(zip(scene.cameras, regions, after, strict=True)):
             write_png(tmp.images / camera.name, picture.rgb)
             write_depth(tmp.depth / exr_name(camera.name), picture.depth)
             write_png(tmp.masks / camera.name, region.astype(np.uint8) * 255)
@@ -143,11 +169,52 @@ def run_removal(config: RemovalConfig) -> dict:
         report = {"config": dataclasses.asdict(config), "object": dataclasses.asdict(obj) if obj else None,
                   "gaussians_before": int(len(removed)), "removed": int(removed.sum()),
                   "gaussians_after": int((~removed).sum()), "selected_by": counts,
+                  "support_plane": None if plane is None else [*np.round(plane[0], 6).tolist(), round(plane[1], 6)],
+                  "shadow": shadow.report() if shadow else None,
                   "psnr_outside_hole": float(np.mean(scores)) if scores else None,
                   "psnr_revealed": float(np.mean(revealed)) if revealed else None, "views_scored": len(scores)}
         tmp.report.write_text(json.dumps(report, indent=1))
+    if config.effects:
+        report["effects"] = _write_effects(effects_out, scene, remaining, shadow, regions, after, device)
     emit("done", stage="removal", out=str(out), removed=report["removed"],
-         psnr_outside_hole=report["psnr_outside_hole"])
+         psnr_outside_hole=report["psnr_outside_hole"], shadow=report["shadow"])
+    return report
+
+
+def _write_effects(out: EffectsLayout, scene, gaussians, shadow: Shadow | None, regions: list[np.ndarray],
+                   after: list, device) -> dict:
+    """RUN/effects: each view's shadow mask, effects.json and a contact sheet (an empty mask per view where
+    no shadow was found, so later stages need not ask)."""
+    weights = effect_weights(shadow) if shadow else None
+    recall, precision, sheet = [], [], []
+    with atomic_output_dir(out.root) as tmp_root:
+        tmp = EffectsLayout(tmp_root)
+        progress = Progress("effects", len(scene.cameras))
+        for i, camera in enumerate(scene.cameras):
+            mask = (effect_mask(gaussians, weights, camera, device) if shadow
+                    else np.zeros((camera.height, camera.width), dtype=bool))
+            write_png(tmp.mask(camera.name), mask.astype(np.uint8) * 255)
+            if i in scene.effects and i in scene.test:
+                estimate, truth = mask & ~dilate(regions[i], 1), scene.effects[i]
+                both = int((estimate & truth).sum())
+                if truth.sum():
+                    recall.append(both / int(truth.sum()))
+                if estimate.sum():
+                    precision.append(both / int(estimate.sum()))
+            if len(sheet) < 4 and i in scene.test:
+                panels = [label(overlay(scene.images[i], mask, (255, 160, 0)), f"{camera.name} effects"),
+                          label(after[i].rgb, "removed, relit")]
+                if i in scene.effects:
+                    panels.append(label(overlay(scene.images[i], scene.effects[i], (0, 255, 0)), "true effects"))
+                sheet.append(np.concatenate(panels, axis=1))
+            progress.update(i + 1)
+        progress.close()
+        if sheet:
+            write_png(tmp.sheet, np.concatenate(sheet, axis=0))
+        report = {"shadow": shadow.report() if shadow else None,
+                  "recall": float(np.mean(recall)) if recall else None,
+                  "precision": float(np.mean(precision)) if precision else None, "views_scored": len(recall)}
+        tmp.report.write_text(json.dumps(report, indent=1))
     return report
 
 
@@ -156,6 +223,7 @@ def _psnr_where(image: np.ndarray, truth: np.ndarray, where: np.ndarray) -> floa
 
 
 def _object_region(scene, i: int, obj, picture) -> np.ndarray:
+    """The object's pixels in view i: from the masks, else from the render (labels, or a box's coverage)."""
     if obj is None:
         return np.isfinite(picture.depth)
     if scene.masks is not None:

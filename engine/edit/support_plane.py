@@ -17,8 +17,10 @@ on them into objects.
 from __future__ import annotations
 
 import numpy as np
+import torch
 
 from engine.formats.cameras import Camera, backproject, pixel_grid
+from engine.io.gaussians import Gaussians
 from engine.io.masks import dilate
 from engine.io.planes import support_planes
 
@@ -89,3 +91,38 @@ def stop_at_plane(camera: Camera, region: np.ndarray, depth: np.ndarray, plane: 
     out = depth.copy()
     out[ys[beyond], xs[beyond]] = z_plane[beyond]
     return out
+
+
+def object_core(removed: Gaussians, up: np.ndarray) -> np.ndarray:
+    """(M, 3) the removed object's visible Gaussians (opacity > 0.1) without the strays the removal also
+    took (floaters of its identity far away): those within 3x the median distance from its vertical axis."""
+    points = removed["means"].numpy()[torch.sigmoid(removed["opacities"]).numpy() > 0.1]
+    if len(points) < 20:
+        return points[:0]
+    centre = np.median(points, axis=0)
+    across = np.linalg.norm((points - centre) - np.outer((points - centre) @ up, up), axis=1)
+    return points[across <= 3 * np.median(across)]
+
+
+def object_support(means: np.ndarray, obj: np.ndarray, up: np.ndarray) -> tuple[np.ndarray, float] | None:
+    """The plane the object stands on: the highest level plane through the remaining Gaussians (`means`)
+    around the object's core `obj` that lies below most of it (the removal may also have taken Gaussians
+    under its base, inside its visual hull). Gaussians' centres lie on a trained surface to a few mm where
+    its rendered depth does not (engine.render.surface_depth): fitted to rendered depth, a livingroom's table
+    came out 2 degrees tilted and 0.5-4 cm low, and the hole masks' IoU 0.31 against 0.69 from this fit."""
+    if len(obj) < 20:
+        return None
+    heights = obj @ up
+    size = float(np.percentile(heights, 98) - np.percentile(heights, 2))
+    centre = np.median(obj, axis=0)
+    across = np.linalg.norm((means - centre) - np.outer((means - centre) @ up, up), axis=1)
+    radius = float(np.percentile(np.linalg.norm((obj - centre) - np.outer((obj - centre) @ up, up), axis=1), 95))
+    ring = means[(across > radius) & (across < radius + size)]
+    if len(ring) < 50:
+        return None
+    low = np.percentile(heights, 25)
+    planes = [(n, d) for n, d in support_planes(ring, up, tol=0.01 * max(size, 1e-6), share=0.05, most=4)
+              if -d < low]
+    if not planes:
+        return None
+    return max(planes, key=lambda plane: -plane[1])

@@ -72,6 +72,11 @@ class SceneLayout(Views):
         return self.root / "holes"
 
     @property
+    def effects(self) -> Path:
+        """Per gt view, the pixels outside the target that removing it changed (shadow, reflection)."""
+        return self.root / "effects"
+
+    @property
     def sparse(self) -> Path:
         return self.root / "sparse"
 
@@ -154,11 +159,12 @@ class RemovedLayout(Views):
 
 
 @dataclass(frozen=True)
-class HolesLayout(_Folder):
-    """`holes`' output: per view, the pixels no training view saw behind the removed object."""
+class _MaskFolder(_Folder):
+    """A stage's per-view masks (PNGs named like the views' images, 255 = in), its report and a sheet."""
+
+    report_name = ""
 
     def mask(self, view: str) -> Path:
-        """The view's hole mask, a PNG named like the view's image (255 = hole)."""
         return self.root / view
 
     @property
@@ -167,7 +173,22 @@ class HolesLayout(_Folder):
 
     @property
     def report(self) -> Path:
-        return self.root / "holes.json"
+        return self.root / self.report_name
+
+
+@dataclass(frozen=True)
+class HolesLayout(_MaskFolder):
+    """`holes`' output: per view, the pixels no training view saw behind the removed object."""
+
+    report_name = "holes.json"
+
+
+@dataclass(frozen=True)
+class EffectsLayout(_MaskFolder):
+    """`remove`'s second output: per view, the pixels of what the object did to its surroundings (its
+    shadow), which the removed scene was relit to undo."""
+
+    report_name = "effects.json"
 
 
 @dataclass(frozen=True)
@@ -221,6 +242,10 @@ class RunLayout(_Folder):
     @property
     def holes(self) -> HolesLayout:
         return HolesLayout(self.root / "holes")
+
+    @property
+    def effects(self) -> EffectsLayout:
+        return EffectsLayout(self.root / "effects")
 
     def inpainted(self, inpainter: str, source: str = "removed") -> InpaintedLayout:
         """`source` "removed" fills the holes of the removed renders; "input" paints the object out of the

@@ -8,6 +8,7 @@ Folder layout (file names shared across folders, e.g. 0000.png):
   depth/               z-depth EXR of images/                                    optional
   gt/, gt_depth/       the same cameras with the target removed                  optional (all or test views)
   holes/               ground-truth hole masks (255 = hole) for gt views         optional
+  effects/             ground-truth effect masks (255 = the target's shadow etc.)  optional (gt views)
   split.json           {"train": [names], "test": [names]}                       optional (default: every 8th)
 
 Everything present is loaded and checked, or loading fails with one line naming the file.
@@ -57,6 +58,7 @@ class Scene:
     gt_images: dict[int, np.ndarray] = field(default_factory=dict)
     gt_depths: dict[int, np.ndarray] = field(default_factory=dict)
     holes: dict[int, np.ndarray] = field(default_factory=dict)  # (H, W) bool
+    effects: dict[int, np.ndarray] = field(default_factory=dict)  # (H, W) bool
 
     @property
     def names(self) -> list[str]:
@@ -98,6 +100,7 @@ def load_scene(root: Path | str, resolution: int = 1) -> Scene:
     scene.gt_images = _read_optional_views(layout.gt, scene, lambda p, c: _read_view_image(p, c))
     scene.gt_depths = _read_optional_views(layout.gt_depth, scene, _read_view_depth)
     scene.holes = _read_optional_views(layout.holes, scene, lambda p, c: _read_view_mask(p, c) > 127)
+    scene.effects = _read_optional_views(layout.effects, scene, lambda p, c: _read_view_mask(p, c) > 127)
     return scene
 
 

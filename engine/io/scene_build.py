@@ -2,7 +2,8 @@
 
 scripts/make_scene.py (Blender's Python) renders multi-part EXRs (linear colour, z-depth, object index)
 and writes cameras.json; this module (the engine's Python, which has OpenImageIO and pycolmap) writes
-images/, gt/, masks/, depth/, gt_depth/, holes/, sparse/0/ and split.json. See engine.io.scene for the layout.
+images/, gt/, masks/, depth/, gt_depth/, holes/, effects/, sparse/0/ and split.json. See engine.io.scene for the
+layout.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
+import cv2
 import numpy as np
 
 from engine.base.errors import InputError
@@ -21,9 +23,11 @@ from engine.formats.cameras import Camera, backproject, pixel_grid, project, rea
 from engine.formats.layout import RendersLayout, SceneLayout
 from engine.io.colmap_model import ColmapModel, write_model
 from engine.io.image_io import linear_to_srgb8, read_exr_channels, write_depth, write_png
+from engine.io.masks import dilate
 from engine.io.visibility import DEFAULT_REL_TOL, seen_by_any, unseen_mask
 
 BACKGROUND_DEPTH = 1e9  # Cycles writes 1e10 where a ray hits nothing; stored as inf
+EFFECT_DIFF = 12  # of 255: a change this large is the object's doing, not Cycles' noise between two renders
 
 
 @dataclass(frozen=True)
@@ -72,7 +76,7 @@ def build_scene(renders: Path, out: Path, config: BuildConfig = BuildConfig()) -
     train = [i for i, c in enumerate(cameras) if c.name in set(split["train"])]
     with atomic_output_dir(out) as tmp_root:
         tmp = SceneLayout(tmp_root)
-        for sub in (tmp.images, tmp.masks, tmp.depth, tmp.gt, tmp.gt_depth, tmp.holes):
+        for sub in (tmp.images, tmp.masks, tmp.depth, tmp.gt, tmp.gt_depth, tmp.holes, tmp.effects):
             sub.mkdir()
         views = _write_views(source.with_object, cameras, tmp.images, tmp.depth, tmp.masks)
         gt_names = sorted(p.stem for p in source.without_object.glob("*.exr"))
@@ -83,6 +87,8 @@ def build_scene(renders: Path, out: Path, config: BuildConfig = BuildConfig()) -
             hole = unseen_mask(cameras[i], views[i].ids == target_id, gt.depth,
                                [cameras[j] for j in train], [views[j].depth for j in train], config.rel_tol)
             write_png(tmp.holes / cameras[i].name, (hole * 255).astype(np.uint8))
+            effect = effect_region(views[i].rgb, gt.rgb, views[i].ids == target_id)
+            write_png(tmp.effects / cameras[i].name, (effect * 255).astype(np.uint8))
             progress.update(k + 1)
         progress.close()
         model = sample_points(cameras, views, train, config)
@@ -92,6 +98,15 @@ def build_scene(renders: Path, out: Path, config: BuildConfig = BuildConfig()) -
         shutil.copy(source.meta_json, tmp.scene_json)
     emit("done", out=str(out))
     return out
+
+
+def effect_region(image: np.ndarray, gt: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """(H, W) bool: what the target did to the rest of the view (its shadow, its reflection, light it
+    bounced): pixels outside its mask (grown by one pixel, its antialiased edge) where the render with it
+    and the one without differ by more than EFFECT_DIFF in some channel, with specks thinner than 3 px
+    (noise) opened away."""
+    changed = (np.abs(image.astype(np.int16) - gt.astype(np.int16)).max(-1) > EFFECT_DIFF) & ~dilate(target, 1)
+    return cv2.morphologyEx(changed.astype(np.uint8), cv2.MORPH_OPEN, np.ones((3, 3), np.uint8)) > 0
 
 
 def _write_views(folder: Path, cameras: list[Camera], image_dir: Path, depth_dir: Path,

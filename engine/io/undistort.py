@@ -68,7 +68,8 @@ def _undistort_aligned(scene: SceneLayout, model_dir: Path, out: Path) -> None:
     raw = {Path(i.name).stem: raw_cameras[i.camera_id] for i in colmap_files.read_images(model_dir / f"images{ext}")
            .values()}
     pinhole = {Path(c.name).stem: c for c in read_model(SceneLayout(out).sparse).cameras}
-    for folder, kind in ((scene.masks, "mask"), (scene.holes, "mask"), (scene.gt, "image"), (scene.depth, "depth"),
+    for folder, kind in ((scene.masks, "mask"), (scene.holes, "mask"), (scene.effects, "mask"),
+                         (scene.gt, "image"), (scene.depth, "depth"),
                          (scene.gt_depth, "depth")):
         if not folder.is_dir():
             continue

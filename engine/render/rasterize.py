@@ -73,6 +73,22 @@ def gsplat_rasterization():
     return rasterization
 
 
+def rasterize(gaussians: Gaussians, features: torch.Tensor, camera: CameraTensors, backend: str,
+              depth: bool = True) -> tuple[torch.Tensor, torch.Tensor, dict]:
+    """Blend per-Gaussian `features` (N, D) into (H, W, D [+ 1 expected depth]) and alpha (H, W, 1) on
+    either back end: the one rasterization every render here goes through."""
+    args = (gaussians["means"], gaussians["quats"], torch.exp(gaussians["scales"]),
+            torch.sigmoid(gaussians["opacities"]), features)
+    if backend == "gsplat":
+        colors, alphas, info = gsplat_rasterization()(
+            *args, camera.viewmat[None], camera.K[None], camera.width, camera.height, near_plane=NEAR_PLANE,
+            far_plane=FAR_PLANE, eps2d=EPS2D, sh_degree=None, packed=False, render_mode="RGB+ED" if depth else "RGB")
+        return colors[0], alphas[0], info
+    colors, alphas, info = rasterize_reference(*args, camera.viewmat, camera.K, camera.width, camera.height,
+                                               NEAR_PLANE, FAR_PLANE, EPS2D)
+    return (colors if depth else colors[..., :-1]), alphas, info
+
+
 def render(gaussians: Gaussians, camera: CameraTensors, sh_degree: int, backend: str | None = None,
            classifier: torch.nn.Linear | None = None, depth: bool = True) -> RenderOutput:
     """Render `gaussians` (see engine.io.gaussians) seen by `camera`, using SH bands up to `sh_degree`;
@@ -84,19 +100,7 @@ def render(gaussians: Gaussians, camera: CameraTensors, sh_degree: int, backend:
     identity = gaussians["identity"]
     project_first = classifier is not None and classifier.out_features <= identity.shape[-1]
     features = torch.cat([rgb, identity @ classifier.weight.T if project_first else identity], dim=-1)
-    args = (means, gaussians["quats"], torch.exp(gaussians["scales"]), torch.sigmoid(gaussians["opacities"]),
-            features)
-    if backend == "gsplat":
-        rasterization = gsplat_rasterization()
-        colors, alphas, info = rasterization(*args, camera.viewmat[None], camera.K[None], camera.width,
-                                             camera.height, near_plane=NEAR_PLANE, far_plane=FAR_PLANE,
-                                             eps2d=EPS2D, sh_degree=None, packed=False,
-                                             render_mode="RGB+ED" if depth else "RGB")
-        colors, alphas = colors[0], alphas[0]
-    else:
-        colors, alphas, info = rasterize_reference(*args, camera.viewmat, camera.K, camera.width, camera.height,
-                                                   NEAR_PLANE, FAR_PLANE, EPS2D)
-        colors = colors if depth else colors[..., :-1]
+    colors, alphas, info = rasterize(gaussians, features, camera, backend, depth)
     channels = colors[..., 3:-1] if depth else colors[..., 3:]
     if project_first:
         blended_identity, logits = None, channels + classifier.bias

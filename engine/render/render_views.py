@@ -18,30 +18,32 @@ from engine.formats.splat_ply import SH_REST_COUNTS
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import write_png
 from engine.io.ply_io import load_ply
-from engine.render.rasterize import CameraTensors, render
-
-MIN_ALPHA = 0.5  # below this the expected depth is mostly background-free guesswork: stored as inf
+from engine.render.rasterize import CameraTensors, default_backend, render
+from engine.render.surface_depth import surface_depth
 
 
 @dataclass
 class ViewPicture:
     rgb: np.ndarray  # (H, W, 3) uint8
-    depth: np.ndarray  # (H, W) float32 z-depth, inf where alpha < MIN_ALPHA
+    depth: np.ndarray | None  # (H, W) float32 z-depth of the surface shown (engine.render.surface_depth), inf
+    # where alpha < 1/2; None when not asked for
     labels: np.ndarray | None  # (H, W) uint8 argmax class, with a classifier
 
 
 @torch.no_grad()
 def render_pictures(gaussians: Gaussians, cameras: list[Camera], sh_degree: int, device: torch.device,
-                    classifier: torch.nn.Linear | None = None) -> Iterator[ViewPicture]:
-    """One ViewPicture per camera, in order; the Gaussians are moved to `device` once."""
+                    classifier: torch.nn.Linear | None = None, depth: bool = True) -> Iterator[ViewPicture]:
+    """One ViewPicture per camera, in order; the Gaussians are moved to `device` once. The surface depth
+    costs one more rasterization per view: `depth=False` skips it."""
     on_device = {k: v.to(device) for k, v in gaussians.items()}
     classifier = classifier.to(device) if classifier is not None else None
     for camera in cameras:
-        out = render(on_device, CameraTensors.from_camera(camera, device), sh_degree, classifier=classifier)
-        depth = torch.where(out.alpha >= MIN_ALPHA, out.depth, torch.full_like(out.depth, float("inf")))
+        tensors = CameraTensors.from_camera(camera, device)
+        out = render(on_device, tensors, sh_degree, classifier=classifier, depth=False)
         rgb = (out.rgb.clamp(0, 1) * 255 + 0.5).to(torch.uint8)
         labels = out.logits.argmax(-1).to(torch.uint8).cpu().numpy() if out.logits is not None else None
-        yield ViewPicture(rgb=rgb.cpu().numpy(), depth=depth.float().cpu().numpy(), labels=labels)
+        surface = surface_depth(on_device, tensors, default_backend(device))[0].float().cpu().numpy() if depth else None
+        yield ViewPicture(rgb=rgb.cpu().numpy(), depth=surface, labels=labels)
 
 
 def render_depths(gaussians: Gaussians, cameras: list[Camera], sh_degree: int, device: torch.device, stage: str

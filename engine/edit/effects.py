@@ -1,0 +1,293 @@
+"""What the object did to its surroundings, found and undone in 3D without model weights: its cast shadow.
+
+After removal the table keeps the shadow the object cast, and `gt/` (the scene without it) has none; the
+inpainters then spread that shadow into the hole. The shadow is found on the Gaussians rather than per
+view, so every view agrees on it by construction, and it is undone by *relighting* the Gaussians in it: a
+shadow scales every albedo under it by the same factor, so the texture it darkened survives and comes back.
+
+1. The support: the level plane (the cameras' up) through most remaining Gaussians around the object's
+   footprint, the one nearest the object's base.
+2. The light: of the directions above that plane, the one whose shadow of the object's Gaussians, cast onto
+   the plane, covers remaining surface Gaussians that are darkest against the ones around them (median
+   log-luminance contrast; a coarse search over elevation and azimuth, then a finer one around the best).
+   No direction darker than `min_contrast`: no shadow, nothing changes.
+3. The shadowed Gaussians: the remaining ones inside that cast shadow and within a band around the plane
+   (3DGS builds a surface out of a layer of Gaussians, some well below it), except those under the object's
+   own footprint (no view saw them: that is the hole's business).
+4. Relit: multiplied, colour and view-dependent terms alike, by the shadow's gain per channel: the median,
+   over the shadowed surface Gaussians, of their lit neighbours' colour over their own.
+
+Per view, the effect mask is where the shadowed Gaussians give at least half of a pixel's opacity. Measured
+in docs/BENCHMARKS.md ("Object effects").
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+import torch
+
+from engine.base.knn import knn
+from engine.edit.support_plane import object_core, object_support
+from engine.formats.cameras import Camera, backproject
+from engine.formats.splat_ply import SH_C0
+from engine.io.gaussians import Gaussians
+from engine.io.masks import dilate
+from engine.render.rasterize import CameraTensors, default_backend, rasterize
+
+LUMA = np.array([0.2126, 0.7152, 0.0722])
+
+
+@dataclass
+class EffectsConfig:
+    shadow: bool = True  # find the object's cast shadow and relight it (off: the removed scene keeps it)
+    min_contrast: float = 0.15  # log-luminance: a candidate shadow at least about 14% darker than around it
+    band_below: float = 0.3  # how far below the support plane shadowed Gaussians may sit, x the object's height
+
+
+@dataclass
+class Shadow:
+    """A cast shadow found on the remaining Gaussians."""
+
+    shadowed: np.ndarray  # (N,) bool over the remaining Gaussians
+    darkness: np.ndarray  # (S,) per shadowed Gaussian, 0 (past the shadow's edge) to 1 (in it)
+    gain: np.ndarray  # (3,) how much brighter the lit surface around is than the shadow, per channel
+    elevation: float  # light direction, degrees above the support plane
+    azimuth: float  # degrees, in the plane's own frame
+    contrast: float  # median log-luminance outside minus inside
+
+    def report(self) -> dict:
+        return {"shadowed_gaussians": int(self.shadowed.sum()), "in_full_shadow": int((self.darkness > 0.5).sum()),
+                "gain": self.gain.round(3).tolist(),
+                "light_elevation_deg": round(self.elevation, 1), "light_azimuth_deg": round(self.azimuth, 1),
+                "contrast": round(self.contrast, 3)}
+
+
+@dataclass
+class _Frame:
+    """The support plane as a frame: unit normal n (up), in-plane axes a and b, offset d (n.p + d = 0)."""
+
+    n: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    d: float
+
+    @classmethod
+    def of(cls, n: np.ndarray, d: float) -> _Frame:
+        a = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+        a /= np.linalg.norm(a)
+        return cls(n=n, a=a, b=np.cross(n, a), d=float(d))
+
+    def height(self, p: np.ndarray) -> np.ndarray:
+        return p @ self.n + self.d
+
+    def cast(self, p: np.ndarray, light: np.ndarray) -> np.ndarray:
+        """(N, 2) in-plane coordinates where the light's rays through `p` meet the plane."""
+        on_plane = p - (self.height(p) / (light @ self.n))[:, None] * light[None]
+        return np.stack([on_plane @ self.a, on_plane @ self.b], axis=1)
+
+    def flat(self, p: np.ndarray) -> np.ndarray:
+        """(N, 2) in-plane coordinates straight below `p`."""
+        return np.stack([p @ self.a, p @ self.b], axis=1)
+
+    def light(self, elevation: float, azimuth: float) -> np.ndarray:
+        el, az = math.radians(elevation), math.radians(azimuth)
+        return math.cos(el) * (math.cos(az) * self.a + math.sin(az) * self.b) + math.sin(el) * self.n
+
+
+def colors_of(gaussians: Gaussians) -> np.ndarray:
+    """(N, 3) base colour (the SH DC term) in [0, 1]."""
+    return np.clip(gaussians["sh0"][:, 0].numpy() * SH_C0 + 0.5, 0.0, None)
+
+
+@dataclass
+class Samples:
+    """Surface points the training views show around the object, lifted with their rendered surface depth,
+    and their colours: what the views see, where a Gaussian's base colour is one layer of a surface."""
+
+    points: np.ndarray  # (M, 3)
+    colors: np.ndarray  # (M, 3) in [0, 1]
+
+    @classmethod
+    def from_views(cls, cameras: list[Camera], images: list[np.ndarray], depths: list[np.ndarray],
+                   regions: list[np.ndarray], most: int = 400_000) -> Samples:
+        """Every view's pixels outside its object `regions` (grown by 3 px) with a surface, evenly thinned
+        to at most `most` in all."""
+        total = sum(int(np.isfinite(d).sum()) for d in depths)
+        step = max(1, int(math.ceil(total / most)))
+        points, colors = [], []
+        for camera, image, depth, region in zip(cameras, images, depths, regions, strict=True):
+            ys, xs = np.nonzero(np.isfinite(depth) & ~dilate(region, 3))
+            ys, xs = ys[::step], xs[::step]
+            points.append(backproject(camera, xs + 0.5, ys + 0.5, depth[ys, xs]))
+            colors.append(image[ys, xs] / 255.0)
+        return cls(np.concatenate(points), np.concatenate(colors))
+
+
+def find_shadow(remaining: Gaussians, removed: Gaussians, up: np.ndarray, samples: Samples,
+                config: EffectsConfig) -> Shadow | None:
+    """The object's cast shadow on the `remaining` Gaussians, judged by the views' `samples`, or None where
+    no shadow stands out."""
+    obj = object_core(removed, up)
+    means = remaining["means"].numpy()
+    plane = object_support(means, obj, up)
+    if plane is None:
+        return None
+    frame = _Frame.of(*plane)
+    size = float(np.percentile(frame.height(obj), 98) - np.percentile(frame.height(obj), 2))
+    flat = np.stack([obj @ frame.a, obj @ frame.b], 1)
+    centre = np.median(flat, axis=0)
+    radius = float(np.percentile(np.linalg.norm(flat - centre, axis=1), 95))
+    reach = radius + 3.0 * size  # the shadow of a light 18 degrees above the plane
+    grid = _Grid(centre - reach, radius / 12, int(math.ceil(2 * reach / (radius / 12))) + 1)
+    # where the object touches its support, and a margin where its contact darkens and its remnants linger:
+    # the hole's business (what views saw under an overhang is not: its shadow is relit like any other)
+    base = flat[frame.height(obj) < np.percentile(frame.height(obj), 2) + 0.1 * size]
+    footprint = cv2.dilate(grid.raster(base).astype(np.uint8), np.ones((5, 5), np.uint8)) > 0
+
+    def around(points: np.ndarray, below: float) -> np.ndarray:
+        h, across = frame.height(points), frame.flat(points)
+        return ((np.linalg.norm(across - centre, axis=1) < reach) & (h > -below * size) & (h < 0.05 * size)
+                & ~grid.cells(footprint, across))
+
+    receivers = around(samples.points, config.band_below)  # rendered depth of a fuzzy surface lies low
+    if receivers.sum() < 200:
+        return None
+    rng = np.random.default_rng(0)
+    pick = rng.choice(np.flatnonzero(receivers), min(int(receivers.sum()), 20_000), replace=False)
+    points, log_y = samples.points[pick], np.log(samples.colors[pick] @ LUMA + 1e-3)
+    obj_sample = obj[rng.choice(len(obj), min(len(obj), 6000), replace=False)]
+
+    def covered(el: float, az: float) -> float:
+        return _missing_light(grid.shadowed(frame, frame.light(el, az), obj_sample, points), log_y,
+                              config.min_contrast)
+
+    coarse = [(el, az) for el in np.arange(15.0, 86.0, 5.0) for az in np.arange(0.0, 360.0, 6.0)]
+    best = max(coarse, key=lambda d: covered(*d))
+    fine = [(best[0] + de, best[1] + da) for de in np.arange(-5.0, 5.1, 1.25) for da in np.arange(-6.0, 6.1, 1.5)
+            if 10.0 <= best[0] + de <= 89.0]
+    best = max(fine, key=lambda d: covered(*d))
+    light = frame.light(*best)
+    inside = grid.shadowed(frame, light, obj, points)
+    if inside.sum() < 20 or (~inside).sum() < 20:
+        return None
+    score = float(np.median(log_y[~inside]) - np.median(log_y[inside]))
+    if not score - _chance_contrast(grid, frame, best, obj_sample, points, log_y) >= config.min_contrast:
+        return None
+    cast = cv2.dilate(grid.raster(frame.cast(obj, light)).astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
+    shadowed = around(means, config.band_below)
+    shadowed[shadowed] = grid.cells(cast, frame.cast(means[shadowed], light))
+    dark = inside & (np.median(log_y[~inside]) - log_y > config.min_contrast)
+    lit_edge = ~inside & grid.cells(cv2.dilate(cast.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0,
+                                     frame.cast(points, light))
+    colors = samples.colors[pick]
+    gain = np.clip((np.median(colors[lit_edge], 0) + 1e-3) / (np.median(colors[dark], 0) + 1e-3), 1.0, 8.0) \
+        if lit_edge.sum() >= 20 and dark.sum() >= 20 else np.ones(3)
+    return Shadow(shadowed=shadowed, darkness=_darkness(means[shadowed], points, dark), gain=gain,
+                  elevation=float(best[0]), azimuth=float(best[1] % 360), contrast=score)
+
+
+@dataclass(frozen=True)
+class _Grid:
+    """A square grid of cells over the plane around the object, for casting footprints."""
+
+    origin: np.ndarray
+    cell: float
+    size: int
+
+    def raster(self, flat: np.ndarray) -> np.ndarray:
+        """(size, size) bool occupancy of in-plane points, small gaps closed."""
+        ij = np.floor((flat - self.origin) / self.cell).astype(int)
+        ok = (ij >= 0).all(1) & (ij < self.size).all(1)
+        occupied = np.zeros((self.size, self.size), np.uint8)
+        occupied[ij[ok, 0], ij[ok, 1]] = 1
+        return cv2.morphologyEx(occupied, cv2.MORPH_CLOSE, np.ones((3, 3), np.uint8)) > 0
+
+    def cells(self, occupied: np.ndarray, flat: np.ndarray) -> np.ndarray:
+        """(N,) bool: which in-plane points fall in occupied cells."""
+        ij = np.floor((flat - self.origin) / self.cell).astype(int)
+        ok = (ij >= 0).all(1) & (ij < self.size).all(1)
+        inside = np.zeros(len(flat), dtype=bool)
+        inside[ok] = occupied[ij[ok, 0], ij[ok, 1]]
+        return inside
+
+    def shadowed(self, frame: _Frame, light: np.ndarray, obj: np.ndarray, points: np.ndarray) -> np.ndarray:
+        """(N,) bool: which `points` lie in the shadow of the `obj` points cast by `light`."""
+        return self.cells(self.raster(frame.cast(obj, light)), frame.cast(points, light))
+
+
+def _chance_contrast(grid: _Grid, frame: _Frame, light: tuple[float, float], obj: np.ndarray,
+                     points: np.ndarray, log_y: np.ndarray) -> float:
+    """What a footprint of the shadow's shape scores by chance here: the median contrast, plus two median
+    deviations, over lights at the shadow's elevation from azimuths at least 90 degrees away (nearer ones
+    overlap the shadow itself). A coarse two-tone texture lets some footprint sit on its dark patches
+    (measured: 0.15 on a checker with no shadow at all, against 0.0 +- 0.08 by chance); a real shadow
+    stands out (0.36-0.46 on the generated scenes)."""
+    values = []
+    for az in np.arange(light[1] + 90.0, light[1] + 271.0, 6.0):
+        inside = grid.shadowed(frame, frame.light(light[0], az), obj, points)
+        if inside.sum() >= 20 and (~inside).sum() >= 20:
+            values.append(np.median(log_y[~inside]) - np.median(log_y[inside]))
+    if not values:
+        return 0.0
+    values = np.asarray(values)
+    return float(max(np.median(values), 0.0) + 2 * np.median(np.abs(values - np.median(values))))
+
+
+def _missing_light(inside: np.ndarray, log_y: np.ndarray, darker: float) -> float:
+    """How well a candidate shadow covers what is dark: each receiver in it counts +1 when it is more than
+    `darker` (log-luminance) below the median of those outside, else -1. A lit patch added to the candidate
+    costs, a shadowed one pays, so this peaks at the whole shadow; a mean or median contrast peaks at its
+    darkest core instead (measured: a small patch of contact darkness beside the object), and a plain sum
+    of darkness grows with any footprint (the luminance of textured surfaces has a long dark tail)."""
+    if inside.sum() < 20 or (~inside).sum() < 20:
+        return -np.inf
+    dark = np.median(log_y[~inside]) - log_y[inside] > darker
+    return float(2 * dark.sum() - dark.size)
+
+
+def relight(gaussians: Gaussians, shadow: Shadow) -> Gaussians:
+    """The Gaussians with each shadowed one's radiance multiplied by 1 + darkness (gain - 1): for colour
+    c = C0 sh0 + 0.5 (plus view-dependent terms), g c needs sh0' = (g (C0 sh0 + 0.5) - 0.5) / C0, shN' = g shN."""
+    out = dict(gaussians)
+    idx = torch.from_numpy(np.flatnonzero(shadow.shadowed))
+    gain = torch.as_tensor(1.0 + shadow.darkness[:, None] * (shadow.gain[None] - 1.0),
+                           dtype=gaussians["sh0"].dtype)[:, None]
+    sh0, sh_n = gaussians["sh0"].clone(), gaussians["shN"].clone()
+    sh0[idx] = (gain * (SH_C0 * sh0[idx] + 0.5) - 0.5) / SH_C0
+    sh_n[idx] = sh_n[idx] * gain
+    out["sh0"], out["shN"] = sh0, sh_n
+    return out
+
+
+def effect_weights(shadow: Shadow) -> np.ndarray:
+    """(N,) per remaining Gaussian, how much of the shadow it carries (its darkness; 0 outside it)."""
+    weights = np.zeros(len(shadow.shadowed), dtype=np.float32)
+    weights[shadow.shadowed] = shadow.darkness
+    return weights
+
+
+@torch.no_grad()
+def effect_mask(gaussians: Gaussians, weights: np.ndarray, camera: Camera, device: torch.device) -> np.ndarray:
+    """(H, W) bool: pixels showing a surface whose Gaussians carry the shadow by at least half
+    (`weights` blended like a colour, over the pixel's opacity)."""
+    on_device = {k: v.to(device) for k, v in gaussians.items()}
+    share = torch.as_tensor(weights, dtype=torch.float32, device=device)[:, None]
+    blended, alpha = rasterize(on_device, share, CameraTensors.from_camera(camera, device), default_backend(device),
+                               depth=False)[:2]
+    alpha = alpha[..., 0]
+    return ((blended[..., 0] >= 0.5 * alpha) & (alpha > 0.5)).cpu().numpy()
+
+
+def _darkness(gaussians: np.ndarray, points: np.ndarray, dark: np.ndarray, k: int = 8) -> np.ndarray:
+    """(S,) per shadowed Gaussian (centres `gaussians`), from the share of its k nearest view samples
+    (`points`) that are `dark` ones in the shadow: 1 where most are (a light grain of texture in the shadow
+    still has dark neighbours), 0 where few are (past the shadow's edge: not relit, no halo)."""
+    if len(gaussians) == 0 or len(points) < k:
+        return np.zeros(len(gaussians))
+    _, ids = knn(torch.as_tensor(gaussians, dtype=torch.float32), torch.as_tensor(points, dtype=torch.float32), k)
+    share = dark[ids.numpy()].mean(axis=1)
+    return np.clip((share - 0.2) / 0.5, 0.0, 1.0)

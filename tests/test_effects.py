@@ -1,0 +1,168 @@
+"""Object effects (the cast shadow found and relit in 3D), the surface depth the hole masks use, the
+generator's exact effect regions, and the one-fill-for-every-view reprojection: hand-built scenes with a
+worked-out answer, then the removal stage on a tiny run."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+import torch
+
+from engine.edit.effects import EffectsConfig, Samples, colors_of, find_shadow, relight
+from engine.formats.cameras import Camera, backproject, pixel_grid
+from engine.formats.splat_ply import SH_C0
+
+SPACING = 0.04
+
+
+def gaussians(means: np.ndarray, colors: np.ndarray, opacity: float = 0.95, scale: float = SPACING) -> dict:
+    n = len(means)
+    return {"means": torch.as_tensor(means, dtype=torch.float32),
+            "quats": torch.tensor([[1.0, 0.0, 0.0, 0.0]]).repeat(n, 1),
+            "scales": torch.full((n, 3), math.log(scale)),
+            "opacities": torch.full((n,), math.log(opacity / (1 - opacity))),
+            "sh0": torch.as_tensor((colors - 0.5) / SH_C0, dtype=torch.float32)[:, None],
+            "shN": torch.zeros(n, 15, 3), "identity": torch.zeros(n, 16)}
+
+
+def shadow_scene(light: np.ndarray, darken: float = 0.5):
+    """A textured floor (z = 0) of Gaussians with a box standing on it (|x|, |y| < 0.15, z < 0.6), and the
+    floor Gaussians in the box's shadow under `light` darkened by `darken`."""
+    xs = np.arange(-1.5, 1.5, SPACING)
+    floor = np.stack(np.meshgrid(xs, xs, indexing="ij"), -1).reshape(-1, 2)
+    floor = np.concatenate([floor, np.zeros((len(floor), 1))], 1)
+    checker = ((np.floor(floor[:, 0] / 0.2) + np.floor(floor[:, 1] / 0.2)) % 2).astype(bool)
+    lit = np.where(checker[:, None], [0.8, 0.7, 0.6], [0.55, 0.6, 0.5])
+    # a floor point is in shadow when its ray towards the light passes through the box
+    t = np.linspace(0, 0.6 / light[2], 200)
+    ray = floor[:, None, :] + t[None, :, None] * light
+    in_box = (np.abs(ray[..., 0]) < 0.15) & (np.abs(ray[..., 1]) < 0.15) & (ray[..., 2] < 0.6)
+    shadowed = in_box.any(1) & ~((np.abs(floor[:, 0]) < 0.15) & (np.abs(floor[:, 1]) < 0.15))
+    seen = np.where(shadowed[:, None], lit * darken, lit)
+    bx = np.arange(-0.14, 0.15, SPACING)
+    box = np.stack(np.meshgrid(bx, bx, np.arange(0.02, 0.6, SPACING), indexing="ij"), -1).reshape(-1, 3)
+    return floor, lit, seen, shadowed, box
+
+
+def test_a_cast_shadow_is_found_from_the_views_and_relit_to_the_surface_around_it():
+    el, az = math.radians(40), math.radians(30)
+    light = np.array([math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)])
+    floor, lit, seen, truth, box = shadow_scene(light)
+    remaining = gaussians(floor, seen)
+    removed = gaussians(box, np.full((len(box), 3), 0.9))
+    rng = np.random.default_rng(0)
+    jitter = rng.uniform(-SPACING / 2, SPACING / 2, (4 * len(floor), 3)) * [1, 1, 0]
+    samples = Samples(points=np.repeat(floor, 4, 0) + jitter, colors=np.repeat(seen, 4, 0))
+    shadow = find_shadow(remaining, removed, np.array([0.0, 0.0, 1.0]), samples, EffectsConfig())
+    assert shadow is not None
+    found = shadow.shadowed & (np.abs(floor[:, 0]) < 1.4) & (np.abs(floor[:, 1]) < 1.4)
+    iou = (found & truth).sum() / (found | truth).sum()
+    assert iou > 0.8, shadow.report()
+    assert shadow.elevation == pytest.approx(40, abs=6)
+    np.testing.assert_allclose(shadow.gain, 2.0, rtol=0.15)
+    after = colors_of(relight(remaining, shadow))
+    core = truth & shadow.shadowed
+    assert np.abs(after[core] - lit[core]).mean() < 0.1 * np.abs(seen[core] - lit[core]).mean() + 0.02
+    assert np.allclose(after[~shadow.shadowed], seen[~shadow.shadowed])
+
+
+def test_no_shadow_is_claimed_where_the_surface_around_the_object_is_evenly_lit():
+    floor, lit, _, _, box = shadow_scene(np.array([0.0, 0.6, 0.8]))
+    rng = np.random.default_rng(1)
+    samples = Samples(points=floor, colors=lit * rng.uniform(0.95, 1.05, lit.shape))
+    assert find_shadow(gaussians(floor, lit), gaussians(box, np.full((len(box), 3), 0.9)),
+                       np.array([0.0, 0.0, 1.0]), samples, EffectsConfig()) is None
+
+
+def front_camera() -> Camera:
+    return Camera(name="c.png", width=40, height=30, fx=40.0, fy=40.0, cx=20.0, cy=15.0, R=np.eye(3),
+                  t=np.zeros(3))
+
+
+def test_surface_depth_is_where_opacity_passes_a_half_not_the_blend_of_everything_behind():
+    from engine.render.rasterize import CameraTensors
+    from engine.render.surface_depth import surface_depth
+
+    xs = np.arange(-3.0, 3.0, 0.1)
+    sheet = np.stack(np.meshgrid(xs, xs, indexing="ij"), -1).reshape(-1, 2)
+    front = np.concatenate([sheet, np.full((len(sheet), 1), 2.0)], 1)  # a see-through sheet at z = 2
+    back = np.concatenate([sheet, np.full((len(sheet), 1), 5.0)], 1)  # an opaque wall at z = 5
+    both = gaussians(np.concatenate([front, back]), np.full((2 * len(sheet), 3), 0.5), scale=0.08)
+    both["opacities"][: len(sheet)] = math.log(0.3 / 0.7)  # the sheet alone passes a little over half
+    camera = CameraTensors.from_camera(front_camera(), "cpu")
+    from engine.render.rasterize import render
+
+    expected = render(both, camera, 0, backend="reference").depth
+    depth, alpha = surface_depth(both, camera, "reference")
+    centre = (slice(10, 20), slice(15, 25))
+    assert float(expected[centre].mean()) > 2.6  # the blend lies well behind the sheet
+    np.testing.assert_allclose(depth[centre].numpy(), 2.0, atol=0.05)
+    both["opacities"][: len(sheet)] = math.log(0.1 / 0.9)  # too thin to count: the wall is the surface
+    np.testing.assert_allclose(surface_depth(both, camera, "reference")[0][centre].numpy(), 5.0, atol=0.1)
+
+
+def test_the_effect_region_is_what_changed_outside_the_object_noise_and_the_object_left_out():
+    from engine.io.scene_build import effect_region
+
+    rng = np.random.default_rng(0)
+    gt = rng.integers(60, 200, (40, 50, 3)).astype(np.uint8)
+    image = np.clip(gt.astype(int) + rng.integers(-4, 5, gt.shape), 0, 255).astype(np.uint8)  # render noise
+    target = np.zeros((40, 50), bool)
+    target[5:15, 5:15] = True
+    image[target] = 255  # the object itself
+    image[15:25, 10:30] = gt[15:25, 10:30] // 2  # its shadow
+    image[33, 40] = 0  # one hot pixel
+    region = effect_region(image, gt, target)
+    expected = np.zeros_like(target)
+    expected[15:25, 10:30] = True
+    expected[15, 10:16] = False  # the object's antialiased edge (grown by one pixel) is not its effect
+    assert (region ^ expected).sum() <= 12 and not region[target].any() and not region[33, 40]
+
+
+def test_one_fill_is_carried_to_another_view_of_the_same_surface():
+    from engine.complete.reference_fill import carry_fill
+
+    ref = front_camera()
+    other = Camera(name="o.png", width=40, height=30, fx=40.0, fy=40.0, cx=20.0, cy=15.0, R=np.eye(3),
+                   t=np.array([-0.3, 0.0, 0.0]))  # 0.3 to the right
+    wall = 4.0
+    ref_depth, depth = np.full((30, 40), wall), np.full((30, 40), wall)
+    u, v = pixel_grid(ref)
+    ref_points = backproject(ref, u, v, ref_depth)
+    ref_image = (np.stack([ref_points[..., 0], ref_points[..., 1], np.zeros_like(u)], -1) * 40 + 128).astype(np.uint8)
+    hole = np.zeros((30, 40), bool)
+    hole[10:20, 12:28] = True
+    image = np.zeros((30, 40, 3), np.uint8)
+    filled, count = carry_fill(other, hole, depth, image, ref, ref_depth, ref_image)
+    assert count == hole.sum()
+    points = backproject(other, u, v, depth)
+    truth = (np.stack([points[..., 0], points[..., 1], np.zeros_like(u)], -1) * 40 + 128).astype(np.uint8)
+    assert np.abs(filled[hole].astype(int) - truth[hole]).max() <= 6  # nearest pixel of the reference
+    assert not filled[~hole].any()
+    # where the reference's surface is elsewhere (an occluder in front of it), nothing is carried
+    ref_depth[:, :] = 1.0
+    assert carry_fill(other, hole, depth, image, ref, ref_depth, ref_image)[1] == 0
+
+
+@pytest.mark.slow
+def test_removal_writes_the_effects_folder_for_every_view(tiny_run, tmp_path):
+    from engine.edit.removal import RemovalConfig, run_removal
+    from engine.formats.layout import EffectsLayout
+    from engine.io.image_io import read_png
+    from engine.train.trained_run import load_run
+
+    out = tmp_path / "removed"
+    report = run_removal(RemovalConfig(run=str(tiny_run), object="plush", out=str(out), device="cpu"))
+    effects = EffectsLayout(tmp_path / "effects")
+    saved = json.loads(effects.report.read_text())
+    assert set(saved) >= {"shadow", "recall", "precision", "views_scored"}
+    assert report["support_plane"] is not None and json.loads((out / "removal.json").read_text())["support_plane"]
+    scene = load_run(tiny_run).scene
+    for camera in scene.cameras:
+        assert read_png(effects.mask(camera.name), "mask", camera.size).shape == (camera.height, camera.width)
+    assert effects.sheet.is_file()
+    if saved["shadow"] is not None:  # the tiny scene's shadow is scored against the generator's effects/
+        assert saved["views_scored"] == len([i for i in scene.test if i in scene.effects])
