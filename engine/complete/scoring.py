@@ -30,7 +30,7 @@ def score_run(run_dir: Path, scorer: Scorer, renders: Path | None = None) -> Sco
     run = load_run(run_dir)
     views, truths, holes = _test_sets(run.scene)
     pictures = [p.rgb for p in render_pictures(run.gaussians, [run.scene.cameras[i] for i in views],
-                                               run.sh_degree, pick_device(scorer.config.device))]
+                                               run.sh_degree, pick_device(scorer.config.device), depth=False)]
     if renders is not None:
         for i, rgb in zip(views, pictures, strict=True):
             write_png(renders / run.scene.cameras[i].name, rgb)

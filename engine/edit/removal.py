@@ -36,7 +36,7 @@ from engine.base.progress import Progress, emit
 from engine.edit.effects import EffectsConfig, Samples, Shadow, effect_mask, effect_weights, find_shadow, relight
 from engine.edit.support_plane import object_core, object_support
 from engine.formats.cameras import Camera, mean_up, project, sample_nearest
-from engine.formats.layout import EffectsLayout, RemovedLayout
+from engine.formats.layout import EffectsLayout, RemovedLayout, RunLayout
 from engine.io.extent import inside_box
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import exr_name, write_depth, write_png
@@ -115,7 +115,7 @@ def run_removal(config: RemovalConfig) -> dict:
     config = dataclasses.replace(config, box=[float(v) for v in config.box])
     run = load_run(config.run, config.scene or None)
     out = Path(config.out) if config.out else run.layout.removed.root
-    effects_out = EffectsLayout(out.parent / "effects") if config.out else run.layout.effects
+    effects_out = RunLayout(out.parent).effects if config.out else run.layout.effects  # beside removed/
     check_new_output(out)
     if config.effects:
         check_new_output(effects_out.root)
