@@ -150,13 +150,13 @@ def test_one_fill_is_carried_to_another_view_of_the_same_surface():
 @pytest.mark.slow
 def test_removal_writes_the_effects_folder_for_every_view(tiny_run, tmp_path):
     from engine.edit.removal import RemovalConfig, run_removal
-    from engine.formats.layout import EffectsLayout
+    from engine.formats.layout import RemovedLayout
     from engine.io.image_io import read_png
     from engine.train.trained_run import load_run
 
     out = tmp_path / "removed"
     report = run_removal(RemovalConfig(run=str(tiny_run), object="plush", out=str(out), device="cpu"))
-    effects = EffectsLayout(tmp_path / "effects")
+    effects = RemovedLayout(out).effects
     saved = json.loads(effects.report.read_text())
     assert set(saved) >= {"shadow", "recall", "precision", "views_scored"}
     assert report["support_plane"] is not None and json.loads((out / "removal.json").read_text())["support_plane"]

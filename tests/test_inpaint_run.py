@@ -111,12 +111,15 @@ def test_init_completion_trains_on_the_inpainted_views_and_carries_the_fill_into
     assert trained.scene.target is None  # the removed object is background in the training scene
     assert all(not (m == 1).any() for m in trained.scene.masks)
     scene, original = trained.scene, load_run_scene(stages["run"])
-    for i in scene.train:  # the fill inside the object's region, the input image outside it
+    for i in scene.train:  # the fill inside the object's region and its relit shadow, the input image elsewhere
         name = scene.cameras[i].name
         hole = read_png(stages["holes"] / name, kind="mask") > 0
         region = read_png(stages["removed"] / "masks" / name, kind="mask") > 0
-        assert (scene.images[i][hole] == read_png(inpainted / "images" / name)[hole]).all()
-        far = ~dilate(region, 4)
+        shadow = read_png(stages["removed"] / "effects" / name, kind="mask") > 0
+        filled = read_png(inpainted / "images" / name)
+        assert (scene.images[i][hole] == filled[hole]).all()
+        assert (scene.images[i][shadow] == filled[shadow]).all()
+        far = ~dilate(region | shadow, 4)
         assert (scene.images[i][far] == original.images[i][far]).all()
     after, before = errors_toward(out / "run", with_hole(scene, stages["holes"]), stages["holes"],
                                   inpainted / "images", stages["removed"] / "images")
@@ -132,6 +135,7 @@ def test_direct_inpaints_the_object_region_of_the_input_images_and_completes_fro
     scene = load_run_scene(stages["run"])
     for i, camera in enumerate(scene.cameras):
         region = read_png(stages["removed"] / "masks" / camera.name, kind="mask") > 0
+        region |= read_png(stages["removed"] / "effects" / camera.name, kind="mask") > 0  # and its shadow
         filled = read_png(inpainted / "images" / camera.name)
         assert (filled[~region] == scene.images[i][~region]).all()
         assert not region.any() or (filled[region] != scene.images[i][region]).any()

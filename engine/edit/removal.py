@@ -13,7 +13,7 @@ revealed part of the object's region that other views saw: remnants of the objec
 contact sheet.
 
 With `effects` (the default) the object's cast shadow goes too (engine.edit.effects): the Gaussians in it are
-relit before anything is rendered, so removed/ and every later stage see the scene without it, and RUN/effects
+relit before anything is rendered, so removed/ and every later stage see the scene without it, and removed/effects/
 holds each view's shadow mask (255 = relit), effects.json (light direction, gain, recall and precision against
 the scene's effects/ where it has them) and a contact sheet. The plane the object stood on, fitted to the
 remaining Gaussians, goes into removal.json for the hole masks.
@@ -36,7 +36,7 @@ from engine.base.progress import Progress, emit
 from engine.edit.effects import EffectsConfig, Samples, Shadow, effect_mask, effect_weights, find_shadow, relight
 from engine.edit.support_plane import object_core, object_support
 from engine.formats.cameras import Camera, mean_up, project, sample_nearest
-from engine.formats.layout import EffectsLayout, RemovedLayout, RunLayout
+from engine.formats.layout import EffectsLayout, RemovedLayout
 from engine.io.extent import inside_box
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import exr_name, write_depth, write_png
@@ -56,7 +56,7 @@ class RemovalConfig:
     threshold: float = 0.3  # object probability above which a Gaussian is removed (see docs/BENCHMARKS.md)
     hull: bool = True  # also remove Gaussians inside the object's visual hull (needs masks)
     hull_dilate: int = 2  # px added around the masks for the hull test
-    effects: bool = True  # also remove the object's cast shadow (relight it) and write RUN/effects
+    effects: bool = True  # also remove the object's cast shadow (relight it) and write removed/effects
     out: str = ""  # default RUN/removed
     scene: str = ""  # default: the scene named in the run's config.json
     device: str = "auto"
@@ -115,10 +115,7 @@ def run_removal(config: RemovalConfig) -> dict:
     config = dataclasses.replace(config, box=[float(v) for v in config.box])
     run = load_run(config.run, config.scene or None)
     out = Path(config.out) if config.out else run.layout.removed.root
-    effects_out = RunLayout(out.parent).effects if config.out else run.layout.effects  # beside removed/
     check_new_output(out)
-    if config.effects:
-        check_new_output(effects_out.root)
     device = pick_device(config.device)
     removed, counts = select(run, config)
     remaining, gone = keep(run.gaussians, removed), keep(run.gaussians, ~removed)
@@ -173,9 +170,9 @@ def run_removal(config: RemovalConfig) -> dict:
                   "shadow": shadow.report() if shadow else None,
                   "psnr_outside_hole": float(np.mean(scores)) if scores else None,
                   "psnr_revealed": float(np.mean(revealed)) if revealed else None, "views_scored": len(scores)}
+        if config.effects:
+            report["effects"] = _write_effects(tmp.effects, scene, remaining, shadow, regions, after, device)
         tmp.report.write_text(json.dumps(report, indent=1))
-    if config.effects:
-        report["effects"] = _write_effects(effects_out, scene, remaining, shadow, regions, after, device)
     emit("done", stage="removal", out=str(out), removed=report["removed"],
          psnr_outside_hole=report["psnr_outside_hole"], shadow=report["shadow"])
     return report
@@ -183,38 +180,37 @@ def run_removal(config: RemovalConfig) -> dict:
 
 def _write_effects(out: EffectsLayout, scene, gaussians, shadow: Shadow | None, regions: list[np.ndarray],
                    after: list, device) -> dict:
-    """RUN/effects: each view's shadow mask, effects.json and a contact sheet (an empty mask per view where
-    no shadow was found, so later stages need not ask)."""
+    """removed/effects: each view's shadow mask, effects.json and a contact sheet (an empty mask per view
+    where no shadow was found, so later stages need not ask)."""
     weights = effect_weights(shadow) if shadow else None
     recall, precision, sheet = [], [], []
-    with atomic_output_dir(out.root) as tmp_root:
-        tmp = EffectsLayout(tmp_root)
-        progress = Progress("effects", len(scene.cameras))
-        for i, camera in enumerate(scene.cameras):
-            mask = (effect_mask(gaussians, weights, camera, device) if shadow
-                    else np.zeros((camera.height, camera.width), dtype=bool))
-            write_png(tmp.mask(camera.name), mask.astype(np.uint8) * 255)
-            if i in scene.effects and i in scene.test:
-                estimate, truth = mask & ~dilate(regions[i], 1), scene.effects[i]
-                both = int((estimate & truth).sum())
-                if truth.sum():
-                    recall.append(both / int(truth.sum()))
-                if estimate.sum():
-                    precision.append(both / int(estimate.sum()))
-            if len(sheet) < 4 and i in scene.test:
-                panels = [label(overlay(scene.images[i], mask, (255, 160, 0)), f"{camera.name} effects"),
-                          label(after[i].rgb, "removed, relit")]
-                if i in scene.effects:
-                    panels.append(label(overlay(scene.images[i], scene.effects[i], (0, 255, 0)), "true effects"))
-                sheet.append(np.concatenate(panels, axis=1))
-            progress.update(i + 1)
-        progress.close()
-        if sheet:
-            write_png(tmp.sheet, np.concatenate(sheet, axis=0))
-        report = {"shadow": shadow.report() if shadow else None,
-                  "recall": float(np.mean(recall)) if recall else None,
-                  "precision": float(np.mean(precision)) if precision else None, "views_scored": len(recall)}
-        tmp.report.write_text(json.dumps(report, indent=1))
+    out.root.mkdir()
+    progress = Progress("effects", len(scene.cameras))
+    for i, camera in enumerate(scene.cameras):
+        mask = (effect_mask(gaussians, weights, camera, device) if shadow
+                else np.zeros((camera.height, camera.width), dtype=bool))
+        write_png(out.mask(camera.name), mask.astype(np.uint8) * 255)
+        if i in scene.effects and i in scene.test:
+            estimate, truth = mask & ~dilate(regions[i], 1), scene.effects[i]
+            both = int((estimate & truth).sum())
+            if truth.sum():
+                recall.append(both / int(truth.sum()))
+            if estimate.sum():
+                precision.append(both / int(estimate.sum()))
+        if len(sheet) < 4 and i in scene.test:
+            panels = [label(overlay(scene.images[i], mask, (255, 160, 0)), f"{camera.name} effects"),
+                      label(after[i].rgb, "removed, relit")]
+            if i in scene.effects:
+                panels.append(label(overlay(scene.images[i], scene.effects[i], (0, 255, 0)), "true effects"))
+            sheet.append(np.concatenate(panels, axis=1))
+        progress.update(i + 1)
+    progress.close()
+    if sheet:
+        write_png(out.sheet, np.concatenate(sheet, axis=0))
+    report = {"shadow": shadow.report() if shadow else None,
+              "recall": float(np.mean(recall)) if recall else None,
+              "precision": float(np.mean(precision)) if precision else None, "views_scored": len(recall)}
+    out.report.write_text(json.dumps(report, indent=1))
     return report
 
 

@@ -157,6 +157,11 @@ class RemovedLayout(Views):
     def report(self) -> Path:
         return self.root / "removal.json"
 
+    @property
+    def effects(self) -> EffectsLayout:
+        """What the object did to its surroundings (its shadow), relit in this removal."""
+        return EffectsLayout(self.root / "effects")
+
 
 @dataclass(frozen=True)
 class _MaskFolder(_Folder):
@@ -185,7 +190,7 @@ class HolesLayout(_MaskFolder):
 
 @dataclass(frozen=True)
 class EffectsLayout(_MaskFolder):
-    """`remove`'s second output: per view, the pixels of what the object did to its surroundings (its
+    """Inside `remove`'s output: per view, the pixels of what the object did to its surroundings (its
     shadow), which the removed scene was relit to undo."""
 
     report_name = "effects.json"
@@ -243,9 +248,6 @@ class RunLayout(_Folder):
     def holes(self) -> HolesLayout:
         return HolesLayout(self.root / "holes")
 
-    @property
-    def effects(self) -> EffectsLayout:
-        return EffectsLayout(self.root / "effects")
 
     def inpainted(self, inpainter: str, source: str = "removed") -> InpaintedLayout:
         """`source` "removed" fills the holes of the removed renders; "input" paints the object out of the

@@ -83,7 +83,7 @@ def run_inpaint(config: InpaintConfig) -> dict:
             if not direct:
                 row = _fill_hole(inpainter, config, prompt, scene.images[i], camera.name, removed, holes, tmp)
             else:  # the direct baseline: the object painted out of the input image (its region), RGB only
-                region = (dilate(_direct_region(removed, run, camera.name), config.dilate)
+                region = (dilate(_direct_region(removed, camera.name), config.dilate)
                           if inpainter.uses_mask else None)
                 filled = inpainter.inpaint(scene.images[i], region, "rgb", prompt)
                 write_png(tmp.images / camera.name, filled)
@@ -104,11 +104,11 @@ def run_inpaint(config: InpaintConfig) -> dict:
     return report
 
 
-def _direct_region(removed: RemovedLayout, run: RunLayout, name: str) -> np.ndarray:
+def _direct_region(removed: RemovedLayout, name: str) -> np.ndarray:
     """What the direct baseline paints over in an input image: the object's region, and its shadow where
-    `remove` wrote RUN/effects (the input images still show it; the other methods relit it in 3D)."""
+    `remove` relit one (removed/effects: the input images still show it; the other methods relit it in 3D)."""
     region = read_png(removed.masks / name, kind="mask") > 0
-    effects = run.effects.mask(name)
+    effects = removed.effects.mask(name)
     return region | (read_png(effects, kind="mask") > 0) if effects.is_file() else region
 
 

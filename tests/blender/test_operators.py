@@ -138,7 +138,7 @@ def test_the_inpaint_and_complete_menus_list_the_engines_plugins(package, monkey
     inpainters = {item[0] for item in pipeline._plugin_items("inpainters")}
     methods = {item[0] for item in pipeline._plugin_items("methods")}
     assert {"telea", "fsr", "exemplar", "lama"} <= inpainters and "nanobanana" not in inpainters
-    assert methods == {"init", "ft"}  # direct reads `inpaint --source input`, which no operator writes
+    assert methods == {"init", "ft", "reference"}  # direct reads `inpaint --source input`, which no operator writes
 
 
 def test_find_objects_and_object_from_selection_group_a_run_without_objects(run: Path, registered, tmp_path: Path):

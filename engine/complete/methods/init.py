@@ -1,7 +1,7 @@
 """Init-<inpainter> (the paper's re-initialisation): a new scene trained from scratch on the inpainted views.
 
 The training images are the inpainted render inside the removed object's region (removal's masks grown by
-the inpainting's dilation and 2 px) and inside its shadow where `remove` relit one (RUN/effects, grown by
+the inpainting's dilation and 2 px) and inside its shadow where `remove` relit one (removed/effects, grown by
 2 px: the input images still show it), and the input image elsewhere; original cameras and sparse points,
 the removed object's id turned into background. Why not the renders alone: outside the region the input
 image is the truth, and a render of the removed scene is only a copy of it with the model's errors, which
@@ -31,7 +31,7 @@ class Init(NewSceneMethod):
         cameras = job.original.scene.cameras
         pixels = inpainted_dilation(job.inpainted) + MARGIN_PX
         regions = read_masks(job.removed.masks, cameras, pixels)
-        effects = job.original.layout.effects.root  # the shadow, relit in the removed renders
+        effects = job.removed.effects.root  # the shadow, relit in the removed renders
         if not effects.is_dir():
             return regions
         relit = read_masks(effects, cameras, MARGIN_PX)
