@@ -5,17 +5,18 @@ inpainters then spread that shadow into the hole. The shadow is found on the Gau
 view, so every view agrees on it by construction, and it is undone by *relighting* the Gaussians in it: a
 shadow scales every albedo under it by the same factor, so the texture it darkened survives and comes back.
 
-1. The support: the level plane (the cameras' up) through most remaining Gaussians around the object's
-   footprint, the one nearest the object's base.
-2. The light: of the directions above that plane, the one whose shadow of the object's Gaussians, cast onto
-   the plane, covers remaining surface Gaussians that are darkest against the ones around them (median
-   log-luminance contrast; a coarse search over elevation and azimuth, then a finer one around the best).
-   No direction darker than `min_contrast`: no shadow, nothing changes.
-3. The shadowed Gaussians: the remaining ones inside that cast shadow and within a band around the plane
-   (3DGS builds a surface out of a layer of Gaussians, some well below it), except those under the object's
-   own footprint (no view saw them: that is the hole's business).
-4. Relit: multiplied, colour and view-dependent terms alike, by the shadow's gain per channel: the median,
-   over the shadowed surface Gaussians, of their lit neighbours' colour over their own.
+1. The support: the plane the object stood on, fitted to the remaining Gaussians around it
+   (engine.edit.support_plane.object_support).
+2. The light: what the training views show around the object (their pixels lifted with the rendered surface
+   depth) is the evidence. Of the directions above the plane, the one whose cast footprint of the object's
+   Gaussians covers the most samples darker than around (+1 each) and the fewest others (-1 each), searched
+   coarse then fine, wins if its median log-luminance contrast beats what lights 90+ degrees away score by
+   chance by `min_contrast`; else no shadow, nothing changes.
+3. The shadowed Gaussians: the remaining ones inside that cast footprint and within a band around the plane
+   (3DGS builds a surface out of a layer of Gaussians, some well below it), except those where the object
+   touched its support (no view saw them: that is the hole's business).
+4. Relit: multiplied, colour and view-dependent terms alike, by the lit/shadow ratio of the views' samples
+   per channel, each Gaussian by the share of its nearest samples that are dark.
 
 Per view, the effect mask is where the shadowed Gaussians give at least half of a pixel's opacity. Measured
 in docs/BENCHMARKS.md ("Object effects").
@@ -43,7 +44,6 @@ LUMA = np.array([0.2126, 0.7152, 0.0722])
 
 @dataclass
 class EffectsConfig:
-    shadow: bool = True  # find the object's cast shadow and relight it (off: the removed scene keeps it)
     min_contrast: float = 0.15  # log-luminance: a candidate shadow at least about 14% darker than around it
     band_below: float = 0.3  # how far below the support plane shadowed Gaussians may sit, x the object's height
 

@@ -130,7 +130,8 @@ def run_removal(config: RemovalConfig) -> dict:
     else:
         source = run.gaussians if obj is not None else gone
         regions = [_object_region(scene, i, obj, picture) for i, picture in
-                   enumerate(render_pictures(source, scene.cameras, run.sh_degree, device, run.classifier))]
+                   enumerate(render_pictures(source, scene.cameras, run.sh_degree, device, run.classifier,
+                                                    depth=obj is None))]  # a box's region is its depth
     after = list(render_pictures(remaining, scene.cameras, run.sh_degree, device))
     shadow = None
     if config.effects:
