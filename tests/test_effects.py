@@ -55,7 +55,9 @@ def test_a_cast_shadow_is_found_from_the_views_and_relit_to_the_surface_around_i
     removed = gaussians(box, np.full((len(box), 3), 0.9))
     rng = np.random.default_rng(0)
     jitter = rng.uniform(-SPACING / 2, SPACING / 2, (4 * len(floor), 3)) * [1, 1, 0]
-    samples = Samples(points=np.repeat(floor, 4, 0) + jitter, colors=np.repeat(seen, 4, 0))
+    points, colors = np.repeat(floor, 4, 0) + jitter, np.repeat(seen, 4, 0)
+    seen_by_views = ~((np.abs(points[:, 0]) < 0.15) & (np.abs(points[:, 1]) < 0.15))  # no view sees under the box
+    samples = Samples(points=points[seen_by_views], colors=colors[seen_by_views])
     shadow = find_shadow(remaining, removed, np.array([0.0, 0.0, 1.0]), samples, EffectsConfig())
     assert shadow is not None
     found = shadow.shadowed & (np.abs(floor[:, 0]) < 1.4) & (np.abs(floor[:, 1]) < 1.4)
@@ -124,6 +126,7 @@ def test_the_effect_region_is_what_changed_outside_the_object_noise_and_the_obje
 
 def test_one_fill_is_carried_to_another_view_of_the_same_surface():
     from engine.complete.reference_fill import carry_fill
+    from engine.io.masks import dilate
 
     ref = front_camera()
     other = Camera(name="o.png", width=40, height=30, fx=40.0, fy=40.0, cx=20.0, cy=15.0, R=np.eye(3),
@@ -136,15 +139,18 @@ def test_one_fill_is_carried_to_another_view_of_the_same_surface():
     hole = np.zeros((30, 40), bool)
     hole[10:20, 12:28] = True
     image = np.zeros((30, 40, 3), np.uint8)
-    filled, count = carry_fill(other, hole, depth, image, ref, ref_depth, ref_image)
+    ref_hole = dilate(hole, 4)  # the reference sees the same patch of wall 3 px further left
+    filled, count = carry_fill(other, hole, depth, image, ref, ref_hole, ref_depth, ref_image)
     assert count == hole.sum()
     points = backproject(other, u, v, depth)
     truth = (np.stack([points[..., 0], points[..., 1], np.zeros_like(u)], -1) * 40 + 128).astype(np.uint8)
     assert np.abs(filled[hole].astype(int) - truth[hole]).max() <= 6  # nearest pixel of the reference
     assert not filled[~hole].any()
-    # where the reference's surface is elsewhere (an occluder in front of it), nothing is carried
+    # the reference's depth places the fill: this view's own depth fill 5% off changes nothing
+    assert np.array_equal(carry_fill(other, hole, depth * 1.05, image, ref, ref_hole, ref_depth, ref_image)[0], filled)
+    # where the reference filled something else (an occluder in front of the wall), nothing is carried
     ref_depth[:, :] = 1.0
-    assert carry_fill(other, hole, depth, image, ref, ref_depth, ref_image)[1] == 0
+    assert carry_fill(other, hole, depth, image, ref, ref_hole, ref_depth, ref_image)[1] == 0
 
 
 @pytest.mark.slow

@@ -10,6 +10,8 @@ import torch
 
 from engine.edit.holes import HoleConfig, run_holes
 from engine.edit.removal import RemovalConfig, run_removal
+from engine.edit.support_plane import removal_plane, stop_at_plane
+from engine.formats.layout import RemovedLayout
 from engine.inpaint.inpainters.nanobanana import PAPER_PROMPTS
 from engine.inpaint.run import InpaintConfig, run_inpaint
 from engine.io.image_io import exr_name, read_depth, read_png
@@ -32,6 +34,8 @@ def test_fsr_fills_every_hole_and_passes_views_without_one_through(stages):
                                        holes=str(stages["holes"]), out=str(out)))
     scene = load_run_scene(stages["run"])
     assert report["views"] == len(scene.cameras) and report["prompt"] is None
+    plane = removal_plane(RemovedLayout(stages["removed"]))
+    assert plane is not None
     filled_any = False
     for camera in scene.cameras:
         hole = read_png(stages["holes"] / camera.name, kind="mask") > 0
@@ -39,7 +43,10 @@ def test_fsr_fills_every_hole_and_passes_views_without_one_through(stages):
         filled = read_png(out / "images" / camera.name)
         assert (filled[~hole] == removed[~hole]).all()
         filled_any |= bool(hole.any() and (filled[hole] != removed[hole]).any())
-        assert np.isfinite(read_depth(out / "depth" / exr_name(camera.name))[hole]).all()
+        depth = read_depth(out / "depth" / exr_name(camera.name))
+        assert np.isfinite(depth[hole]).all()
+        # the depth fill stops at the plane the object stood on (nothing in the hole lies beyond it)
+        np.testing.assert_allclose(stop_at_plane(camera, hole, depth, plane, 1e-4), depth)
     assert filled_any and (out / "sheet_train.png").is_file()
 
 

@@ -65,6 +65,10 @@ def test_the_schedule_stretches_with_the_steps_the_user_asks_for():
     assert TrainConfig(steps=10_000, refine_stop=8_000).resolved().refine_stop == 8_000
     assert short.resolved() == short  # a saved config reads back as it ran
     assert short.with_steps(2_000).refine_stop == 1_000  # a completion retraining for fewer steps
+    # the default trains on a 300k budget (unbudgeted runs left floaters); the CPU preset densifies freely,
+    # and a budget the user gives stays
+    assert short.max_gaussians == 300_000 and tiny.max_gaussians == 0
+    assert TrainConfig(preset="tiny", max_gaussians=5_000).resolved().max_gaussians == 5_000
 
 
 def test_a_budget_caps_the_number_of_gaussians(living_scene: Path, tmp_path: Path):
@@ -202,3 +206,25 @@ def test_a_scene_without_masks_scores_identity_as_none_not_nan(tmp_path: Path):
     metrics = evaluate_views(scene, [0], init_from_points(points, scene.colors, sh_degree=0), new_classifier(1), 0,
                              torch.device("cpu"))
     assert metrics["identity_miou"] is None and np.isfinite(metrics["psnr"])
+
+
+def test_metrics_name_the_view_that_falls_far_below_the_others(tmp_path: Path):
+    """A floater spoils one view, not the mean's neighbours: metrics.json lists every test view's PSNR and
+    how far the worst lies below the mean."""
+    from engine.formats.cameras import Camera
+    from engine.io.gaussians import init_from_points, new_classifier
+    from engine.io.scene import Scene
+    from engine.metrics.evaluate import evaluate_views
+
+    cameras = [Camera(f"000{i}.png", 16, 12, 20.0, 20.0, 8.0, 6.0, np.eye(3), np.array([0.0, 0.0, 4.0]))
+               for i in range(3)]
+    points = np.random.default_rng(0).normal(size=(50, 3)) * 0.3
+    splat = init_from_points(points, np.full((50, 3), 128, np.uint8), sh_degree=0)
+    images = [np.full((12, 16, 3), v, np.uint8) for v in (0, 8, 255)]  # the third view: something else
+    scene = Scene(root=tmp_path, cameras=cameras, images=images, points=points,
+                  colors=np.full((50, 3), 128, np.uint8), train=[], test=[0, 1, 2])
+    metrics = evaluate_views(scene, [0, 1, 2], splat, new_classifier(1), 0, torch.device("cpu"))
+    per_view = metrics["psnr_per_view"]
+    assert list(per_view) == ["0000.png", "0001.png", "0002.png"]
+    assert min(per_view, key=per_view.get) == "0002.png" and per_view["0000.png"] > per_view["0002.png"] + 10
+    assert metrics["worst_view_gap"] == pytest.approx(metrics["psnr"] - per_view["0002.png"], abs=0.01)

@@ -35,9 +35,8 @@ from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
-from engine.edit.support_plane import stop_at_plane, support_plane
+from engine.edit.support_plane import removal_plane, stop_at_plane, support_plane
 from engine.formats.cameras import mean_up
-from engine.formats.checks import read_json
 from engine.formats.layout import HolesLayout, RemovedLayout
 from engine.io.image_io import exr_name, read_depth, read_png, write_png
 from engine.io.masks import dilate
@@ -65,13 +64,6 @@ def iou(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.logical_and(a, b).sum() / union) if union else 1.0
 
 
-def _removal_plane(removed: RemovedLayout) -> tuple[np.ndarray, float] | None:
-    """The support plane `remove` fitted to the remaining Gaussians (engine.edit.support_plane.object_support),
-    if it found one: the Gaussians' centres put it within mm, rendered depth within cm."""
-    plane = read_json(removed.report).get("support_plane")
-    return (np.asarray(plane[:3], dtype=np.float64), float(plane[3])) if plane else None
-
-
 def _object_depth(depths: list[np.ndarray], regions: list[np.ndarray]) -> float | None:
     """The median depth of the object in the training views: up to it the depth test's tolerance is
     rel_tol, beyond it that grows with depth (engine.io.visibility.seen_by_any)."""
@@ -90,7 +82,7 @@ def run_holes(config: HoleConfig) -> dict:
     seen_depths = render_depths(run.gaussians, train_cameras, run.sh_degree, device, "holes: original depth")
     regions = [read_png(removed.masks / camera.name, "mask", camera.size) > 0 for camera in scene.cameras]
     up = mean_up(np.stack([c.R for c in scene.cameras]))
-    plane = (_removal_plane(removed) or support_plane(train_cameras, [regions[i] for i in scene.train],
+    plane = (removal_plane(removed) or support_plane(train_cameras, [regions[i] for i in scene.train],
                                                       seen_depths, config.rel_tol, up)
              if config.support_plane else None)
     near = _object_depth(seen_depths, [regions[i] for i in scene.train])

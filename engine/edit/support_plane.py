@@ -20,6 +20,8 @@ import numpy as np
 import torch
 
 from engine.formats.cameras import Camera, backproject, pixel_grid
+from engine.formats.checks import read_json
+from engine.formats.layout import RemovedLayout
 from engine.io.gaussians import Gaussians
 from engine.io.masks import dilate
 from engine.io.planes import support_planes
@@ -75,6 +77,13 @@ def support_plane(cameras: list[Camera], regions: list[np.ndarray], depths: list
         level = support_planes(points, up, tol, HORIZONTAL_SHARE, most=1)
         plane = level[0] if level else None
     return plane
+
+
+def removal_plane(removed: RemovedLayout) -> tuple[np.ndarray, float] | None:
+    """The support plane `remove` fitted to the remaining Gaussians (object_support) and wrote to its
+    report, if it found one: the Gaussians' centres put it within mm, rendered depth within cm."""
+    plane = read_json(removed.report).get("support_plane") if removed.report.is_file() else None
+    return (np.asarray(plane[:3], dtype=np.float64), float(plane[3])) if plane else None
 
 
 def stop_at_plane(camera: Camera, region: np.ndarray, depth: np.ndarray, plane: tuple[np.ndarray, float],

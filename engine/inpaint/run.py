@@ -21,6 +21,8 @@ import numpy as np
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
+from engine.edit.support_plane import removal_plane, stop_at_plane
+from engine.formats.cameras import Camera
 from engine.formats.layout import HolesLayout, InpaintedLayout, RemovedLayout, RunLayout
 from engine.inpaint.registry import create
 from engine.io.image_io import exr_name, read_depth, read_png, write_depth, write_png
@@ -72,6 +74,7 @@ def run_inpaint(config: InpaintConfig) -> dict:
         if not folder.is_dir():
             raise InputError(f"{folder} missing: run `python -m engine {command} --run {root}` first")
     scene = load_run_scene(root)
+    plane = None if direct else removal_plane(removed)
     prompt = config.prompt or inpainter.default_prompt(scene.root)
     sheets: dict[str, list[np.ndarray]] = {"test": [], "train": []}
     seconds = 0.0
@@ -81,7 +84,7 @@ def run_inpaint(config: InpaintConfig) -> dict:
         for i, camera in enumerate(scene.cameras):
             start = time.perf_counter()
             if not direct:
-                row = _fill_hole(inpainter, config, prompt, scene.images[i], camera.name, removed, holes, tmp)
+                row = _fill_hole(inpainter, config, prompt, scene.images[i], camera, plane, removed, holes, tmp)
             else:  # the direct baseline: the object painted out of the input image (its region), RGB only
                 region = (dilate(_direct_region(removed, camera.name), config.dilate)
                           if inpainter.uses_mask else None)
@@ -112,14 +115,22 @@ def _direct_region(removed: RemovedLayout, name: str) -> np.ndarray:
     return region | (read_png(effects, kind="mask") > 0) if effects.is_file() else region
 
 
-def _fill_hole(inpainter, config: InpaintConfig, prompt: str | None, image: np.ndarray, name: str,
-               removed: RemovedLayout, holes: HolesLayout, out: InpaintedLayout) -> np.ndarray | None:
-    """Inpaint one view's hole in the removed render, RGB and depth; its sheet row, or None if no hole."""
+def _fill_hole(inpainter, config: InpaintConfig, prompt: str | None, image: np.ndarray, camera: Camera,
+               plane: tuple[np.ndarray, float] | None, removed: RemovedLayout, holes: HolesLayout,
+               out: InpaintedLayout) -> np.ndarray | None:
+    """Inpaint one view's hole in the removed render, RGB and depth; its sheet row, or None if no hole.
+
+    The depth fill stops at the support plane `remove` found: an inpainter fills depth from the hole's
+    border, which takes in the floor or backdrop seen past the table's edge (statue: median 9% and up to
+    2.2x deeper than the slab top), and FT's new Gaussians and Ref's carried fill are placed by it."""
+    name = camera.name
     rgb = read_png(removed.images / name)
     depth = read_depth(removed.depth / exr_name(name))
     hole = dilate(read_png(holes.mask(name), kind="mask") > 0, config.dilate)
     filled = inpainter.inpaint(rgb, hole, "rgb", prompt)
     filled_depth = inpainter.inpaint(depth, hole, "depth", prompt)
+    if plane is not None and hole.any():
+        filled_depth = stop_at_plane(camera, hole, filled_depth, plane, 0.0)
     write_png(out.images / name, filled)
     write_depth(out.depth / exr_name(name), filled_depth)
     return _sheet_row(image, rgb, hole, filled, filled_depth, name) if hole.any() else None

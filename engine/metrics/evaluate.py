@@ -27,5 +27,9 @@ def evaluate_views(scene: Scene, views: list[int], gaussians: Gaussians, classif
         if scene.masks is not None:
             labels = out.logits.argmax(-1)
             iou.add(labels, torch.as_tensor(scene.masks[i]).clamp(max=num_classes - 1))
-    return {"psnr": sum(psnrs) / max(len(psnrs), 1), "ssim": sum(ssims) / max(len(ssims), 1),
-            "identity_miou": iou.miou() if scene.masks is not None else None, "views": len(views)}
+    mean = sum(psnrs) / max(len(psnrs), 1)
+    return {"psnr": mean, "ssim": sum(ssims) / max(len(ssims), 1),
+            "identity_miou": iou.miou() if scene.masks is not None else None, "views": len(views),
+            # floaters show as one view far below the others (a haze band, a cloud at a table's edge)
+            "psnr_per_view": {scene.cameras[i].name: round(p, 2) for i, p in zip(views, psnrs, strict=True)},
+            "worst_view_gap": round(mean - min(psnrs), 2) if psnrs else None}

@@ -13,11 +13,12 @@ from dataclasses import dataclass
 from engine.base.errors import InputError
 
 PRESETS: dict[str, dict] = {
-    # Gaussian Grouping's schedule on gsplat's DefaultStrategy (refine every 100 from 500 to 15k, reset
-    # opacity every 3k) and its losses.
+    # Gaussian Grouping's schedule (refine every 100 from 500 to 15k, reset opacity every 3k) and its
+    # losses, on gsplat's MCMCStrategy at a 300k budget (max_gaussians).
     "default": {},
-    # A few hundred steps at tiny sizes for CPU tests: densify early and often, no opacity reset.
-    "tiny": dict(steps=200, sh_degree=1, sh_degree_interval=100, refine_start=50, refine_stop=150,
+    # A few hundred steps at tiny sizes for CPU tests: densify early and often (DefaultStrategy: a few
+    # thousand points grow to what the tiny views need), no opacity reset.
+    "tiny": dict(steps=200, max_gaussians=0, sh_degree=1, sh_degree_interval=100, refine_start=50, refine_stop=150,
                  refine_every=50, reset_every=100_000, checkpoint_every=100, log_every=10, reg3d_refresh=100),
 }
 
@@ -32,7 +33,10 @@ class TrainConfig:
     steps: int = 30_000
     seed: int = 0
     device: str = "auto"  # auto | cuda | cpu
-    max_gaussians: int = 0  # 0 = no budget (gsplat DefaultStrategy); N = MCMCStrategy capped at N
+    # N = gsplat's MCMCStrategy capped at N Gaussians; 0 = no budget (gsplat's DefaultStrategy). Measured at
+    # 30k steps (docs/BENCHMARKS.md, "Training budget"): unbudgeted runs leave floaters (livingroom 31.2 dB
+    # with one test view at 16.9; statue 37.3) where 300k reaches 39.6-40.5 dB with no view far below
+    max_gaussians: int = 300_000
     resolution: int = 1  # load the scene at 1/resolution of its size (1, 2, 4, 8), as 3DGS's -r
     sh_degree: int = 3
     sh_degree_interval: int = 1000  # one more SH band every this many steps

@@ -1,12 +1,16 @@
 # Call B, back to back on the same machine: the completions at 10k steps, side by side, then pack the records:
-#   bash methods.sh INPAINTER METHOD...   (first run: telea init reference direct; second: exemplar init reference)
+#   bash methods.sh INPAINTER METHOD...   (third run: telea init reference ft direct, then exemplar init reference)
 export PYTHONPATH=/tmp/site
 inpainter=$1; shift
 t() { local s=$(date +%s); "$@" > /tmp/r16/last-$$.log 2>&1; local rc=$?; echo "$(( $(date +%s) - s )) s rc=$rc: $*"; grep -v '^{' /tmp/r16/last-$$.log | tail -2; }
 ls /tmp/r16 || exit 1
+for name in livingroom statue; do  # this inpainter's fills, if stages.sh made another's
+  [ -d /tmp/r16/run-$name/inpainted/$inpainter ] || t python3 -m engine inpaint --run /tmp/r16/run-$name --inpainter $inpainter
+done
 for name in livingroom statue; do
-  for m in "$@"; do
-    ( t python3 -m engine complete --run /tmp/r16/run-$name --method $m --inpainter $inpainter --steps 10000 --device cuda ) &
+  for m in "$@"; do  # FT's perceptual term: no LPIPS weights offline, so L1 (the results say [l1])
+    extra=""; [ "$m" = ft ] && extra="--perceptual l1"
+    ( t python3 -m engine complete --run /tmp/r16/run-$name --method $m --inpainter $inpainter --steps 10000 --device cuda $extra ) &
   done
 done
 wait
