@@ -3,7 +3,7 @@
 Inpainting each view on its own gives neighbouring views different fills, and a scene trained on them
 averages those into blur (AuraFusion360 and 3DTexMOR fill once and reproject; the benchmark paper's
 Init inpaints per view). Here the reference is the training view whose hole is largest (it sees most of
-what is missing); its hole pixels are lifted with its own inpainted depth and splatted, nearest first,
+what is missing); its hole pixels are lifted with its own inpainted depth and splatted (the nearest wins)
 into every other training view's hole, so every view places the one fill at the same 3D points. A view's
 own inpainted depth only vetoes a point far from it (`rel_tol`: an occluder the reference filled in front
 of the surface this view shows); pixels no point lands on keep their own view's fill. Colours outside the
