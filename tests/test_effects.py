@@ -153,6 +153,27 @@ def test_one_fill_is_carried_to_another_view_of_the_same_surface():
     assert carry_fill(other, hole, depth, image, ref, ref_hole, ref_depth, ref_image)[1] == 0
 
 
+def test_the_reference_is_the_fill_the_other_views_agree_with_not_the_largest_hole():
+    from engine.complete.reference_fill import ViewFill, reference_view
+    from engine.io.masks import dilate
+
+    wall = 4.0
+    fills = {}
+    for i, shift in enumerate((0.0, 0.3, -0.3)):
+        camera = Camera(name=f"{i}.png", width=40, height=30, fx=40.0, fy=40.0, cx=20.0, cy=15.0, R=np.eye(3),
+                        t=np.array([-shift, 0.0, 0.0]))
+        u, v = pixel_grid(camera)
+        points = backproject(camera, u, v, np.full((30, 40), wall))
+        image = (np.stack([points[..., 0], points[..., 1], np.zeros_like(u)], -1) * 40 + 128).astype(np.uint8)
+        hole = np.zeros((30, 40), bool)
+        hole[10:20, 12:28] = True
+        fills[i] = ViewFill(camera, hole, image, np.full((30, 40), wall))
+    outlier = fills[2]
+    outlier.image[:] = 0  # one view filled its hole with something else entirely (a dark border, say)
+    outlier.hole = dilate(outlier.hole, 3)  # and its hole is the largest: the first rule's choice
+    assert reference_view(fills) in (0, 1)
+
+
 @pytest.mark.slow
 def test_removal_writes_the_effects_folder_for_every_view(tiny_run, tmp_path):
     from engine.edit.removal import RemovalConfig, run_removal
