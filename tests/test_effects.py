@@ -12,6 +12,7 @@ import pytest
 import torch
 
 from engine.edit.effects import EffectsConfig, Samples, colors_of, find_shadow, relight
+from engine.edit.support_plane import object_core, object_support
 from engine.formats.cameras import Camera, backproject, pixel_grid
 from engine.formats.splat_ply import SH_C0
 
@@ -26,6 +27,14 @@ def gaussians(means: np.ndarray, colors: np.ndarray, opacity: float = 0.95, scal
             "opacities": torch.full((n,), math.log(opacity / (1 - opacity))),
             "sh0": torch.as_tensor((colors - 0.5) / SH_C0, dtype=torch.float32)[:, None],
             "shN": torch.zeros(n, 15, 3), "identity": torch.zeros(n, 16)}
+
+
+def shadow_of(remaining: dict, removed: dict, samples: Samples):
+    """find_shadow as `remove` calls it: the object's core and the plane it stands on, up being +z."""
+    up = np.array([0.0, 0.0, 1.0])
+    core = object_core(removed, up)
+    return find_shadow(remaining, core, object_support(remaining["means"].numpy(), core, up), samples,
+                       EffectsConfig())
 
 
 def shadow_scene(light: np.ndarray, darken: float = 0.5):
@@ -58,7 +67,7 @@ def test_a_cast_shadow_is_found_from_the_views_and_relit_to_the_surface_around_i
     points, colors = np.repeat(floor, 4, 0) + jitter, np.repeat(seen, 4, 0)
     seen_by_views = ~((np.abs(points[:, 0]) < 0.15) & (np.abs(points[:, 1]) < 0.15))  # no view sees under the box
     samples = Samples(points=points[seen_by_views], colors=colors[seen_by_views])
-    shadow = find_shadow(remaining, removed, np.array([0.0, 0.0, 1.0]), samples, EffectsConfig())
+    shadow = shadow_of(remaining, removed, samples)
     assert shadow is not None
     found = shadow.shadowed & (np.abs(floor[:, 0]) < 1.4) & (np.abs(floor[:, 1]) < 1.4)
     iou = (found & truth).sum() / (found | truth).sum()
@@ -75,8 +84,7 @@ def test_no_shadow_is_claimed_where_the_surface_around_the_object_is_evenly_lit(
     floor, lit, _, _, box = shadow_scene(np.array([0.0, 0.6, 0.8]))
     rng = np.random.default_rng(1)
     samples = Samples(points=floor, colors=lit * rng.uniform(0.95, 1.05, lit.shape))
-    assert find_shadow(gaussians(floor, lit), gaussians(box, np.full((len(box), 3), 0.9)),
-                       np.array([0.0, 0.0, 1.0]), samples, EffectsConfig()) is None
+    assert shadow_of(gaussians(floor, lit), gaussians(box, np.full((len(box), 3), 0.9)), samples) is None
 
 
 def front_camera() -> Camera:

@@ -32,7 +32,6 @@ import numpy as np
 import torch
 
 from engine.base.knn import knn
-from engine.edit.support_plane import object_core, object_support
 from engine.formats.cameras import Camera, backproject
 from engine.formats.splat_ply import SH_C0
 from engine.io.gaussians import Gaussians
@@ -130,15 +129,14 @@ class Samples:
         return cls(np.concatenate(points), np.concatenate(colors))
 
 
-def find_shadow(remaining: Gaussians, removed: Gaussians, up: np.ndarray, samples: Samples,
+def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, float] | None, samples: Samples,
                 config: EffectsConfig) -> Shadow | None:
-    """The object's cast shadow on the `remaining` Gaussians, judged by the views' `samples`, or None where
-    no shadow stands out."""
-    obj = object_core(removed, up)
-    means = remaining["means"].numpy()
-    plane = object_support(means, obj, up)
+    """The cast shadow of the object (its core Gaussians' centres `obj`, from support_plane.object_core)
+    standing on `plane` (support_plane.object_support) on the `remaining` Gaussians, judged by the views'
+    `samples`, or None where no shadow stands out or there is no plane."""
     if plane is None:
         return None
+    means = remaining["means"].numpy()
     frame = _Frame.of(*plane)
     size = float(np.percentile(frame.height(obj), 98) - np.percentile(frame.height(obj), 2))
     flat = np.stack([obj @ frame.a, obj @ frame.b], 1)

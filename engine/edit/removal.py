@@ -122,7 +122,8 @@ def run_removal(config: RemovalConfig) -> dict:
     scene = run.scene
     obj = scene.object_by(config.object) if config.object else None
     up = mean_up(np.stack([c.R for c in scene.cameras]))
-    plane = object_support(remaining["means"].numpy(), object_core(gone, up), up)
+    core = object_core(gone, up)
+    plane = object_support(remaining["means"].numpy(), core, up)
     # the object's region: the scene's masks, else the original's rendered labels; for a box, where
     # the removed Gaussians alone cover a pixel (renders only when the masks do not say)
     if obj is not None and scene.masks is not None:
@@ -138,7 +139,7 @@ def run_removal(config: RemovalConfig) -> dict:
         train = scene.train
         samples = Samples.from_views([scene.cameras[i] for i in train], [after[i].rgb for i in train],
                                      [after[i].depth for i in train], [regions[i] for i in train])
-        shadow = find_shadow(remaining, gone, up, samples, EffectsConfig())
+        shadow = find_shadow(remaining, core, plane, samples, EffectsConfig())
         if shadow is not None:
             remaining = relight(remaining, shadow)
             relit = render_pictures(remaining, scene.cameras, run.sh_degree, device, depth=False)
