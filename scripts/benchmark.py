@@ -16,9 +16,10 @@ scenes, the paper's columns (mean over seeds; best in bold), with the removed-bu
 first row; OUT/stability.md and OUT/speed_accuracy.svg and .png (scripts/benchmark_report.py); OUT/pictures/
 <scene>.png, the first seed's test views side by side (GT, then each method). Methods: the
 benchmark cells the completion-method plug-ins declare (engine/complete/methods; `--list-methods`): init,
-init-colmap (Init on poses COLMAP re-estimates from the inpainted images, the paper's ablation), direct,
-ft3, ftall. Run time of a method: the stages it needs (Init and FT: train + remove + holes + inpaint +
-complete; methods that paint the input images, like Direct: their inpainting + complete).
+init-colmap (Init on poses COLMAP re-estimates from the inpainted images, the paper's ablation), reference
+(Ref: one view's fill carried to every view), direct, ft3, ftall. Run time of a method: the stages it needs
+(Init and FT: train + remove + holes + inpaint + complete; methods that paint the input images, like Direct:
+their inpainting + complete).
 """
 
 from __future__ import annotations
@@ -70,7 +71,8 @@ class Stages:
     def train(self) -> None:
         a = self.args
         resume = ["--resume"] if self.run.config_json.is_file() else []
-        options = ["--preset", a.preset, "--max-gaussians", str(a.max_gaussians), "--device", a.device]
+        options = ["--preset", a.preset, "--device", a.device]
+        options += ["--max-gaussians", str(a.max_gaussians)] if a.max_gaussians is not None else []
         options += ["--steps", str(a.steps)] if a.steps else []
         run = str(self.run.root)
         self.stage("train", self.run.point_cloud, ["train", "--scene", str(self.scene), "--out", run, "--seed",
@@ -235,7 +237,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--scenes", nargs="+")
     cells = list(benchmark_cells())
-    parser.add_argument("--methods", nargs="+", default=["init", "ft3", "ftall", "direct"], choices=cells,
+    parser.add_argument("--methods", nargs="+", default=["init", "reference", "ft3", "ftall", "direct"], choices=cells,
                         help="benchmark cells, from the completion methods' plug-ins: " + ", ".join(cells))
     parser.add_argument("--list-methods", action="store_true", help="print the benchmark's cells and exit")
     parser.add_argument("--inpainters", nargs="+", default=["fsr", "telea"])
@@ -244,7 +246,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--preset", default="default")
     parser.add_argument("--steps", type=int, default=0, help="training steps of the base runs (0: the preset's)")
     parser.add_argument("--complete-steps", type=int, default=0, help="steps of each completion (0: its default)")
-    parser.add_argument("--max-gaussians", type=int, default=100_000)
+    parser.add_argument("--max-gaussians", type=int, default=None,
+                        help="Gaussian budget of the base runs (default: the preset's, as `engine train` has it)")
     parser.add_argument("--dilate", type=int, default=4, help="px added to the masks before inpainting")
     parser.add_argument("--perceptual", default="lpips", help="FT's perceptual term (lpips | l1)")
     parser.add_argument("--device", default="auto")
