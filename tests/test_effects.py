@@ -92,6 +92,14 @@ def front_camera() -> Camera:
                   t=np.zeros(3))
 
 
+def wall_seen_by(camera: Camera, depth: np.ndarray) -> np.ndarray:
+    """What `camera` sees of a wall textured by position (red = x, green = y) at `depth`: one 3D point, one
+    colour in every view, so a carried fill can be checked pixel by pixel."""
+    u, v = pixel_grid(camera)
+    points = backproject(camera, u, v, depth)
+    return (np.stack([points[..., 0], points[..., 1], np.zeros_like(u)], -1) * 40 + 128).astype(np.uint8)
+
+
 def test_surface_depth_is_where_opacity_passes_a_half_not_the_blend_of_everything_behind():
     from engine.render.rasterize import CameraTensors
     from engine.render.surface_depth import surface_depth
@@ -141,17 +149,14 @@ def test_one_fill_is_carried_to_another_view_of_the_same_surface():
                    t=np.array([-0.3, 0.0, 0.0]))  # 0.3 to the right
     wall = 4.0
     ref_depth, depth = np.full((30, 40), wall), np.full((30, 40), wall)
-    u, v = pixel_grid(ref)
-    ref_points = backproject(ref, u, v, ref_depth)
-    ref_image = (np.stack([ref_points[..., 0], ref_points[..., 1], np.zeros_like(u)], -1) * 40 + 128).astype(np.uint8)
+    ref_image = wall_seen_by(ref, ref_depth)
     hole = np.zeros((30, 40), bool)
     hole[10:20, 12:28] = True
     image = np.zeros((30, 40, 3), np.uint8)
     ref_hole = dilate(hole, 4)  # the reference sees the same patch of wall 3 px further left
     filled, count = carry_fill(other, hole, depth, image, ref, ref_hole, ref_depth, ref_image)
     assert count == hole.sum()
-    points = backproject(other, u, v, depth)
-    truth = (np.stack([points[..., 0], points[..., 1], np.zeros_like(u)], -1) * 40 + 128).astype(np.uint8)
+    truth = wall_seen_by(other, depth)
     assert np.abs(filled[hole].astype(int) - truth[hole]).max() <= 6  # nearest pixel of the reference
     assert not filled[~hole].any()
     # the reference's depth places the fill: this view's own depth fill 5% off changes nothing
@@ -170,9 +175,7 @@ def test_the_reference_is_the_fill_the_other_views_agree_with_not_the_largest_ho
     for i, shift in enumerate((0.0, 0.3, -0.3)):
         camera = Camera(name=f"{i}.png", width=40, height=30, fx=40.0, fy=40.0, cx=20.0, cy=15.0, R=np.eye(3),
                         t=np.array([-shift, 0.0, 0.0]))
-        u, v = pixel_grid(camera)
-        points = backproject(camera, u, v, np.full((30, 40), wall))
-        image = (np.stack([points[..., 0], points[..., 1], np.zeros_like(u)], -1) * 40 + 128).astype(np.uint8)
+        image = wall_seen_by(camera, np.full((30, 40), wall))
         hole = np.zeros((30, 40), bool)
         hole[10:20, 12:28] = True
         fills[i] = ViewFill(camera, hole, image, np.full((30, 40), wall))
