@@ -29,12 +29,16 @@ def gaussians(means: np.ndarray, colors: np.ndarray, opacity: float = 0.95, scal
             "shN": torch.zeros(n, 15, 3), "identity": torch.zeros(n, 16)}
 
 
-def shadow_of(remaining: dict, removed: dict, samples: Samples):
+def search_of(remaining: dict, removed: dict, samples: Samples):
     """find_shadow as `remove` calls it: the object's core and the plane it stands on, up being +z."""
     up = np.array([0.0, 0.0, 1.0])
     core = object_core(removed, up)
     return find_shadow(remaining, core, object_support(remaining["means"].numpy(), core, up), samples,
                        EffectsConfig())
+
+
+def shadow_of(remaining: dict, removed: dict, samples: Samples):
+    return search_of(remaining, removed, samples).shadow
 
 
 def shadow_scene(light: np.ndarray, darken: float = 0.5):
@@ -84,7 +88,9 @@ def test_no_shadow_is_claimed_where_the_surface_around_the_object_is_evenly_lit(
     floor, lit, _, _, box = shadow_scene(np.array([0.0, 0.6, 0.8]))
     rng = np.random.default_rng(1)
     samples = Samples(points=floor, colors=lit * rng.uniform(0.95, 1.05, lit.shape))
-    assert shadow_of(gaussians(floor, lit), gaussians(box, np.full((len(box), 3), 0.9)), samples) is None
+    search = search_of(gaussians(floor, lit), gaussians(box, np.full((len(box), 3), 0.9)), samples)
+    assert search.shadow is None
+    assert search.verdict == "no candidate darker than chance by min_contrast" and search.report()["receivers"] > 200
 
 
 def front_camera() -> Camera:
@@ -196,7 +202,8 @@ def test_removal_writes_the_effects_folder_for_every_view(tiny_run, tmp_path):
     report = run_removal(RemovalConfig(run=str(tiny_run), object="plush", out=str(out), device="cpu"))
     effects = RemovedLayout(out).effects
     saved = json.loads(effects.report.read_text())
-    assert set(saved) >= {"shadow", "recall", "precision", "views_scored"}
+    assert set(saved) >= {"shadow", "search", "recall", "precision", "views_scored"}
+    assert (saved["search"]["verdict"] == "found") == (saved["shadow"] is not None)
     assert report["support_plane"] is not None and json.loads((out / "removal.json").read_text())["support_plane"]
     scene = load_run(tiny_run).scene
     for camera in scene.cameras:

@@ -11,7 +11,8 @@ shadow scales every albedo under it by the same factor, so the texture it darken
    depth) is the evidence. Of the directions above the plane, the one whose cast footprint of the object's
    Gaussians covers the most samples darker than around (+1 each) and the fewest others (-1 each), searched
    coarse then fine, wins if its median log-luminance contrast beats what lights 90+ degrees away score by
-   chance by `min_contrast`; else no shadow, nothing changes.
+   chance by `min_contrast`; else no shadow, nothing changes (effects.json's `search` says which test
+   turned it down).
 3. The shadowed Gaussians: the remaining ones inside that cast footprint and within a band around the plane
    (3DGS builds a surface out of a layer of Gaussians, some well below it), except those where the object
    touched its support (no view saw them: that is the hole's business).
@@ -129,13 +130,27 @@ class Samples:
         return cls(np.concatenate(points), np.concatenate(colors))
 
 
+@dataclass
+class ShadowSearch:
+    """What the search found (`shadow`, None where nothing stood out) and what it weighed: a user whose capture
+    keeps its shadow sees which test turned it down (too few views of the surface, too small, too faint)."""
+
+    shadow: Shadow | None
+    verdict: str
+    evidence: dict
+
+    def report(self) -> dict:
+        return {"verdict": self.verdict, **{k: round(v, 3) if isinstance(v, float) else v
+                                            for k, v in self.evidence.items()}}
+
+
 def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, float] | None, samples: Samples,
-                config: EffectsConfig) -> Shadow | None:
+                config: EffectsConfig) -> ShadowSearch:
     """The cast shadow of the object (its core Gaussians' centres `obj`, from support_plane.object_core)
     standing on `plane` (support_plane.object_support) on the `remaining` Gaussians, judged by the views'
-    `samples`, or None where no shadow stands out or there is no plane."""
+    `samples`; its `shadow` is None where no shadow stands out or there is no plane."""
     if plane is None:
-        return None
+        return ShadowSearch(None, "no support plane under the object", {})
     means = remaining["means"].numpy()
     frame = _Frame.of(*plane)
     size = float(np.percentile(frame.height(obj), 98) - np.percentile(frame.height(obj), 2))
@@ -157,8 +172,9 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
                 & ~grid.cells(footprint, across))
 
     receivers = around(samples.points, config.band_below)  # rendered depth of a fuzzy surface lies low
+    evidence: dict = {"receivers": int(receivers.sum())}
     if receivers.sum() < 200:
-        return None
+        return ShadowSearch(None, "too few views of the support around the object", evidence)
     rng = np.random.default_rng(0)
     pick = rng.choice(np.flatnonzero(receivers), min(int(receivers.sum()), 20_000), replace=False)
     points, log_y = samples.points[pick], np.log(samples.colors[pick] @ LUMA + 1e-3)
@@ -175,11 +191,15 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     best = max(fine, key=lambda d: covered(*d))
     light = frame.light(*best)
     inside = grid.shadowed(frame, light, obj, points)
+    evidence.update(light_elevation_deg=float(best[0]), light_azimuth_deg=float(best[1] % 360),
+                    samples_in_shadow=int(inside.sum()))
     if inside.sum() < 20 or (~inside).sum() < 20:
-        return None
+        return ShadowSearch(None, "the best candidate shadow holds too few samples", evidence)
     score = float(np.median(log_y[~inside]) - np.median(log_y[inside]))
-    if not score - _chance_contrast(grid, frame, best, obj_sample, points, log_y) >= config.min_contrast:
-        return None
+    chance = _chance_contrast(grid, frame, best, obj_sample, points, log_y)
+    evidence.update(contrast=score, chance_contrast=chance)
+    if not score - chance >= config.min_contrast:
+        return ShadowSearch(None, "no candidate darker than chance by min_contrast", evidence)
     cast = cv2.dilate(grid.raster(frame.cast(obj, light)).astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
     shadowed = around(means, config.band_below)
     shadowed[shadowed] = grid.cells(cast, frame.cast(means[shadowed], light))
@@ -189,8 +209,9 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     colors = samples.colors[pick]
     gain = np.clip((np.median(colors[lit_edge], 0) + 1e-3) / (np.median(colors[dark], 0) + 1e-3), 1.0, 8.0) \
         if lit_edge.sum() >= 20 and dark.sum() >= 20 else np.ones(3)
-    return Shadow(shadowed=shadowed, darkness=_darkness(means[shadowed], points, dark), gain=gain,
-                  elevation=float(best[0]), azimuth=float(best[1] % 360), contrast=score)
+    return ShadowSearch(Shadow(shadowed=shadowed, darkness=_darkness(means[shadowed], points, dark), gain=gain,
+                               elevation=float(best[0]), azimuth=float(best[1] % 360), contrast=score),
+                        "found", evidence)
 
 
 @dataclass(frozen=True)

@@ -33,7 +33,7 @@ from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir, check_new_output
 from engine.base.progress import Progress, emit
-from engine.edit.effects import EffectsConfig, Samples, Shadow, effect_mask, effect_weights, find_shadow, relight
+from engine.edit.effects import EffectsConfig, Samples, ShadowSearch, effect_mask, effect_weights, find_shadow, relight
 from engine.edit.support_plane import object_core, object_support
 from engine.formats.cameras import Camera, mean_up, project, sample_nearest
 from engine.formats.layout import EffectsLayout, RemovedLayout
@@ -134,12 +134,13 @@ def run_removal(config: RemovalConfig) -> dict:
                    enumerate(render_pictures(source, scene.cameras, run.sh_degree, device, run.classifier,
                                                     depth=obj is None))]  # a box's region is its depth
     after = list(render_pictures(remaining, scene.cameras, run.sh_degree, device))
-    shadow = None
+    shadow, search = None, None
     if config.effects:
         train = scene.train
         samples = Samples.from_views([scene.cameras[i] for i in train], [after[i].rgb for i in train],
                                      [after[i].depth for i in train], [regions[i] for i in train])
-        shadow = find_shadow(remaining, core, plane, samples, EffectsConfig())
+        search = find_shadow(remaining, core, plane, samples, EffectsConfig())
+        shadow = search.shadow
         if shadow is not None:
             remaining = relight(remaining, shadow)
             relit = render_pictures(remaining, scene.cameras, run.sh_degree, device, depth=False)
@@ -173,17 +174,18 @@ def run_removal(config: RemovalConfig) -> dict:
                   "psnr_outside_hole": float(np.mean(scores)) if scores else None,
                   "psnr_revealed": float(np.mean(revealed)) if revealed else None, "views_scored": len(scores)}
         if config.effects:
-            report["effects"] = _write_effects(tmp.effects, scene, remaining, shadow, regions, after, device)
+            report["effects"] = _write_effects(tmp.effects, scene, remaining, search, regions, after, device)
         tmp.report.write_text(json.dumps(report, indent=1))
     emit("done", stage="removal", out=str(out), removed=report["removed"],
          psnr_outside_hole=report["psnr_outside_hole"], shadow=report["shadow"])
     return report
 
 
-def _write_effects(out: EffectsLayout, scene, gaussians, shadow: Shadow | None, regions: list[np.ndarray],
+def _write_effects(out: EffectsLayout, scene, gaussians, search: ShadowSearch, regions: list[np.ndarray],
                    after: list, device) -> dict:
-    """removed/effects: each view's shadow mask, effects.json and a contact sheet (an empty mask per view
-    where no shadow was found, so later stages need not ask)."""
+    """removed/effects: each view's shadow mask, effects.json (with what the search weighed) and a contact
+    sheet (an empty mask per view where no shadow was found, so later stages need not ask)."""
+    shadow = search.shadow
     weights = effect_weights(shadow) if shadow else None
     recall, precision, sheet = [], [], []
     out.root.mkdir()
@@ -209,7 +211,7 @@ def _write_effects(out: EffectsLayout, scene, gaussians, shadow: Shadow | None, 
     progress.close()
     if sheet:
         write_png(out.sheet, np.concatenate(sheet, axis=0))
-    report = {"shadow": shadow.report() if shadow else None,
+    report = {"shadow": shadow.report() if shadow else None, "search": search.report(),
               "recall": float(np.mean(recall)) if recall else None,
               "precision": float(np.mean(precision)) if precision else None, "views_scored": len(recall)}
     out.report.write_text(json.dumps(report, indent=1))
