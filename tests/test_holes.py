@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from engine.formats.cameras import Camera, pixel_grid
-from engine.io.visibility import unseen_mask
+from engine.io.masks import dilate
+from engine.io.visibility import farthest_nearby, unseen_mask
 
 F, W, H = 100.0, 120, 80
 WALL, SQUARE, HALF = 4.0, 2.0, 0.25  # a wall at z = 4, a square object of half-width 0.25 at z = 2
@@ -44,6 +45,26 @@ def test_hole_is_the_part_of_the_shadow_that_no_view_sees():
     mismatched = hole ^ expected
     assert mismatched.sum() <= 2 * H  # at most the pixel column on the boundary X = 0 may go either way
     assert not (hole & ~region).any()
+
+
+def test_a_render_blurred_at_the_silhouette_still_sees_just_past_its_edge():
+    """A render blends the square's edge into the wall pixels beside it (nearer than the wall): a wall point
+    seen there fails the depth test and the hole grows by that ring; the farthest depth within a pixel
+    gives back the exact answer, the views' object masks (as the stage passes them) guarding the square's
+    own edge pixels, whose depth it made the wall's."""
+    a, b = camera_at(0.0), camera_at(0.5)
+    depth_a, region = depth_seen_from(a, with_object=True)
+    depth_b, covered_b = depth_seen_from(b, with_object=True)
+    removed_a, _ = depth_seen_from(a, with_object=False)
+    blurred_b = np.where(dilate(covered_b, 1) & ~covered_b, (SQUARE + WALL) / 2, depth_b)
+    masks = [region, covered_b]
+    exact = unseen_mask(a, region, removed_a, [a, b], [depth_a, depth_b], 0.01, masks)
+    blurred = unseen_mask(a, region, removed_a, [a, b], [depth_a, blurred_b], 0.01, masks)
+    undone = unseen_mask(a, region, removed_a, [a, b], [farthest_nearby(depth_a), farthest_nearby(blurred_b)],
+                         0.01, masks)
+    rows = np.unique(np.nonzero(region)[0]).size
+    assert (blurred & ~exact).sum() >= rows  # a column of wall that b did see, lost to the blur
+    assert (undone == exact).all()
 
 
 def test_a_view_alone_never_sees_behind_its_own_object_and_a_view_with_no_object_sees_everything():

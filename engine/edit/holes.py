@@ -17,7 +17,9 @@ Before warping, rays of the object's region that the removed render lets through
 under the object was never built, so the render shows its underside, which side views saw) are stopped at
 the support plane the removal fitted to the Gaussians around the object (engine.edit.support_plane; fitted to
 rendered depth where removal.json has none). Depths are the rendered surface's (engine.render.surface_depth),
-and the tolerance grows beyond the object's depth (engine.io.visibility). Optional: a margin around each view's
+each pixel taking the farthest within one pixel (a render blurs silhouettes nearer: a point seen through
+the gap under a toy failed the depth test), and the tolerance grows beyond the object's depth
+(engine.io.visibility). Optional: a margin around each view's
 object mask that hides too, and dilation of the result (LaMa wants larger masks; the paper dilates).
 Measured choices in docs/BENCHMARKS.md.
 """
@@ -40,7 +42,7 @@ from engine.formats.cameras import mean_up
 from engine.formats.layout import HolesLayout, RemovedLayout
 from engine.io.image_io import exr_name, read_depth, read_png, write_png
 from engine.io.masks import dilate
-from engine.io.visibility import DEFAULT_REL_TOL, unseen_mask
+from engine.io.visibility import DEFAULT_REL_TOL, farthest_nearby, unseen_mask
 from engine.pictures.preview import label, overlay
 from engine.render.render_views import render_depths
 from engine.train.trained_run import load_run
@@ -86,6 +88,8 @@ def run_holes(config: HoleConfig) -> dict:
                                                       seen_depths, config.rel_tol, up)
              if config.support_plane else None)
     near = _object_depth(seen_depths, [regions[i] for i in scene.train])
+    # what each view saw, its silhouettes' blur undone (the object's own region is the masks' business)
+    seen_surfaces = [farthest_nearby(depth) for depth in seen_depths]
     # the object's region in each training view: it hid whatever lies behind it there
     occluders = [dilate(regions[i], round(config.occluder_margin * np.hypot(scene.cameras[i].width,
                                                                          scene.cameras[i].height)))
@@ -100,7 +104,7 @@ def run_holes(config: HoleConfig) -> dict:
             if plane is not None:
                 background = stop_at_plane(camera, region, background, plane, config.rel_tol)
             # where the removed scene renders no surface at all, nothing is there to show: hole
-            hole = unseen_mask(camera, region, background, train_cameras, seen_depths, config.rel_tol,
+            hole = unseen_mask(camera, region, background, train_cameras, seen_surfaces, config.rel_tol,
                                occluders, near)
             hole = dilate(hole | (region & ~np.isfinite(background)), config.dilate)
             write_png(tmp.mask(camera.name), hole.astype(np.uint8) * 255)
