@@ -18,10 +18,9 @@ under the object was never built, so the render shows its underside, which side 
 the support plane the removal fitted to the Gaussians around the object (engine.edit.support_plane; fitted to
 rendered depth where removal.json has none). Depths are the rendered surface's (engine.render.surface_depth),
 each pixel taking the farthest within a pixel per 320 of image width (a render blurs silhouettes nearer: a
-point seen through the gap under a toy failed the depth test), and the tolerance grows beyond the object's depth
-(engine.io.visibility). Optional: a margin around each view's
-object mask that hides too, and dilation of the result (LaMa wants larger masks; the paper dilates).
-Measured choices in docs/BENCHMARKS.md.
+point seen through the gap under a toy failed the depth test), and the tolerance grows beyond the object's
+depth (engine.io.visibility). Optional: a margin around each view's object mask that hides too, and dilation
+of the result (LaMa wants larger masks; the paper dilates). Measured choices in docs/BENCHMARKS.md.
 """
 
 from __future__ import annotations
