@@ -33,6 +33,7 @@ import numpy as np
 import torch
 
 from engine.base.knn import knn
+from engine.edit.plane_grid import PlaneFrame, PlaneGrid, Site
 from engine.formats.cameras import Camera, backproject
 from engine.formats.splat_ply import SH_C0
 from engine.io.gaussians import Gaussians
@@ -49,6 +50,10 @@ class EffectsConfig:
     # surface's Gaussians lie within a few mm of it and its surface depth on it; 0.3 reached the ground
     # below a statue's 8 cm slab, which put the light at 28 degrees elevation (the generator's sun: 40-65)
     band_below: float = 0.15
+    # the darkening under and beside the object (engine.edit.contact_shade) is looked for this far beyond its
+    # footprint seen from above, x its radius (measured on three families: 1.0 gained most outside the hole;
+    # 0.5 about a quarter as much, 2.0 lit the lit support too: docs/BENCHMARKS.md)
+    contact_reach: float = 1.0
 
 
 @dataclass
@@ -67,38 +72,6 @@ class Shadow:
                 "gain": self.gain.round(3).tolist(),
                 "light_elevation_deg": round(self.elevation, 1), "light_azimuth_deg": round(self.azimuth, 1),
                 "contrast": round(self.contrast, 3)}
-
-
-@dataclass
-class _Frame:
-    """The support plane as a frame: unit normal n (up), in-plane axes a and b, offset d (n.p + d = 0)."""
-
-    n: np.ndarray
-    a: np.ndarray
-    b: np.ndarray
-    d: float
-
-    @classmethod
-    def of(cls, n: np.ndarray, d: float) -> _Frame:
-        a = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
-        a /= np.linalg.norm(a)
-        return cls(n=n, a=a, b=np.cross(n, a), d=float(d))
-
-    def height(self, p: np.ndarray) -> np.ndarray:
-        return p @ self.n + self.d
-
-    def cast(self, p: np.ndarray, light: np.ndarray) -> np.ndarray:
-        """(N, 2) in-plane coordinates where the light's rays through `p` meet the plane."""
-        on_plane = p - (self.height(p) / (light @ self.n))[:, None] * light[None]
-        return np.stack([on_plane @ self.a, on_plane @ self.b], axis=1)
-
-    def flat(self, p: np.ndarray) -> np.ndarray:
-        """(N, 2) in-plane coordinates straight below `p`."""
-        return np.stack([p @ self.a, p @ self.b], axis=1)
-
-    def light(self, elevation: float, azimuth: float) -> np.ndarray:
-        el, az = math.radians(elevation), math.radians(azimuth)
-        return math.cos(el) * (math.cos(az) * self.a + math.sin(az) * self.b) + math.sin(el) * self.n
 
 
 def colors_of(gaussians: Gaussians) -> np.ndarray:
@@ -152,24 +125,16 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     if plane is None:
         return ShadowSearch(None, "no support plane under the object", {})
     means = remaining["means"].numpy()
-    frame = _Frame.of(*plane)
-    size = float(np.percentile(frame.height(obj), 98) - np.percentile(frame.height(obj), 2))
-    flat = np.stack([obj @ frame.a, obj @ frame.b], 1)
-    centre = np.median(flat, axis=0)
-    radius = float(np.percentile(np.linalg.norm(flat - centre, axis=1), 95))
-    reach = radius + 3.0 * size  # the shadow of a light 18 degrees above the plane
-    grid = _Grid(centre - reach, radius / 12, int(math.ceil(2 * reach / (radius / 12))) + 1)
+    site = Site.of(obj, plane)
+    frame, size, grid = site.frame, site.size, site.grid
     # where the object touches its support: the hole's business. Not a margin around it: the ring beside the
     # base is seen (by the views the object did not hide it from), and left unlit it showed as a dark rim
     # where the object stood (statue: 30.8 dB outside the hole without the margin, 29.2 with two cells).
     # What views saw under an overhang is relit like any other shadow.
-    base = flat[frame.height(obj) < np.percentile(frame.height(obj), 2) + 0.1 * size]
-    footprint = grid.raster(base)
+    footprint = grid.raster(frame.flat(obj[frame.height(obj) < np.percentile(frame.height(obj), 2) + 0.1 * size]))
 
     def around(points: np.ndarray, below: float) -> np.ndarray:
-        h, across = frame.height(points), frame.flat(points)
-        return ((np.linalg.norm(across - centre, axis=1) < reach) & (h > -below * size) & (h < 0.05 * size)
-                & ~grid.cells(footprint, across))
+        return site.near_plane(points, below) & ~grid.cells(footprint, frame.flat(points))
 
     receivers = around(samples.points, config.band_below)  # rendered depth of a fuzzy surface lies low
     evidence: dict = {"receivers": int(receivers.sum())}
@@ -214,36 +179,7 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
                         "found", evidence)
 
 
-@dataclass(frozen=True)
-class _Grid:
-    """A square grid of cells over the plane around the object, for casting footprints."""
-
-    origin: np.ndarray
-    cell: float
-    size: int
-
-    def raster(self, flat: np.ndarray) -> np.ndarray:
-        """(size, size) bool occupancy of in-plane points, small gaps closed."""
-        ij = np.floor((flat - self.origin) / self.cell).astype(int)
-        ok = (ij >= 0).all(1) & (ij < self.size).all(1)
-        occupied = np.zeros((self.size, self.size), np.uint8)
-        occupied[ij[ok, 0], ij[ok, 1]] = 1
-        return cv2.morphologyEx(occupied, cv2.MORPH_CLOSE, np.ones((3, 3), np.uint8)) > 0
-
-    def cells(self, occupied: np.ndarray, flat: np.ndarray) -> np.ndarray:
-        """(N,) bool: which in-plane points fall in occupied cells."""
-        ij = np.floor((flat - self.origin) / self.cell).astype(int)
-        ok = (ij >= 0).all(1) & (ij < self.size).all(1)
-        inside = np.zeros(len(flat), dtype=bool)
-        inside[ok] = occupied[ij[ok, 0], ij[ok, 1]]
-        return inside
-
-    def shadowed(self, frame: _Frame, light: np.ndarray, obj: np.ndarray, points: np.ndarray) -> np.ndarray:
-        """(N,) bool: which `points` lie in the shadow of the `obj` points cast by `light`."""
-        return self.cells(self.raster(frame.cast(obj, light)), frame.cast(points, light))
-
-
-def _chance_contrast(grid: _Grid, frame: _Frame, light: tuple[float, float], obj: np.ndarray,
+def _chance_contrast(grid: PlaneGrid, frame: PlaneFrame, light: tuple[float, float], obj: np.ndarray,
                      points: np.ndarray, log_y: np.ndarray) -> float:
     """What a footprint of the shadow's shape scores by chance here: the median contrast, plus two median
     deviations, over lights at the shadow's elevation from azimuths at least 90 degrees away (nearer ones
@@ -274,12 +210,16 @@ def _missing_light(inside: np.ndarray, log_y: np.ndarray, darker: float) -> floa
 
 
 def relight(gaussians: Gaussians, shadow: Shadow) -> Gaussians:
-    """The Gaussians with each shadowed one's radiance multiplied by 1 + darkness (gain - 1): for colour
+    """The Gaussians with each shadowed one's radiance multiplied by 1 + darkness (gain - 1)."""
+    return brighten(gaussians, shadow.shadowed, 1.0 + shadow.darkness[:, None] * (shadow.gain[None] - 1.0))
+
+
+def brighten(gaussians: Gaussians, chosen: np.ndarray, gains: np.ndarray) -> Gaussians:
+    """The Gaussians with the `chosen` ones' (N,) bool radiance multiplied by their `gains` (S, 3): for colour
     c = C0 sh0 + 0.5 (plus view-dependent terms), g c needs sh0' = (g (C0 sh0 + 0.5) - 0.5) / C0, shN' = g shN."""
     out = dict(gaussians)
-    idx = torch.from_numpy(np.flatnonzero(shadow.shadowed))
-    gain = torch.as_tensor(1.0 + shadow.darkness[:, None] * (shadow.gain[None] - 1.0),
-                           dtype=gaussians["sh0"].dtype)[:, None]
+    idx = torch.from_numpy(np.flatnonzero(chosen))
+    gain = torch.as_tensor(gains, dtype=gaussians["sh0"].dtype)[:, None]
     sh0, sh_n = gaussians["sh0"].clone(), gaussians["shN"].clone()
     sh0[idx] = (gain * (SH_C0 * sh0[idx] + 0.5) - 0.5) / SH_C0
     sh_n[idx] = sh_n[idx] * gain
@@ -287,10 +227,10 @@ def relight(gaussians: Gaussians, shadow: Shadow) -> Gaussians:
     return out
 
 
-def effect_weights(shadow: Shadow) -> np.ndarray:
-    """(N,) per remaining Gaussian, how much of the shadow it carries (its darkness; 0 outside it)."""
-    weights = np.zeros(len(shadow.shadowed), dtype=np.float32)
-    weights[shadow.shadowed] = shadow.darkness
+def effect_weights(chosen: np.ndarray, shares: np.ndarray) -> np.ndarray:
+    """(N,) per remaining Gaussian, how much of an effect it carries (`shares` of the `chosen` ones; 0 elsewhere)."""
+    weights = np.zeros(len(chosen), dtype=np.float32)
+    weights[chosen] = shares
     return weights
 
 

@@ -14,11 +14,12 @@ removal.json (selection counts, config, PSNR against gt/ on test views outside t
 revealed part of the object's region that other views saw: remnants of the object show there), and a
 contact sheet.
 
-With `effects` (the default) the object's cast shadow goes too (engine.edit.effects): the Gaussians in it are
-relit before anything is rendered, so removed/ and every later stage see the scene without it, and removed/effects/
-holds each view's shadow mask (255 = relit), effects.json (light direction, gain, recall and precision against
-the scene's effects/ where it has them) and a contact sheet. The plane the object stood on, fitted to the
-remaining Gaussians, goes into removal.json for the hole masks.
+With `effects` (the default) what the object did around itself goes too: its cast shadow (engine.edit.effects),
+then the darkening under and beside it (engine.edit.contact_shade). The Gaussians in them are relit before
+anything is rendered, so removed/ and every later stage see the scene without them, and removed/effects/
+holds each view's effect mask (255 = relit), effects.json (light direction, gains, why no shadow was found,
+recall and precision against the scene's effects/ where it has them) and a contact sheet. The plane the
+object stood on, fitted to the remaining Gaussians, goes into removal.json for the hole masks.
 """
 
 from __future__ import annotations
@@ -35,7 +36,17 @@ from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir, check_new_output
 from engine.base.progress import Progress, emit
-from engine.edit.effects import EffectsConfig, Samples, ShadowSearch, effect_mask, effect_weights, find_shadow, relight
+from engine.edit.contact_shade import ContactShade, find_contact_shade
+from engine.edit.effects import (
+    EffectsConfig,
+    Samples,
+    ShadowSearch,
+    brighten,
+    effect_mask,
+    effect_weights,
+    find_shadow,
+    relight,
+)
 from engine.edit.support_plane import object_core, object_support
 from engine.formats.cameras import Camera, mean_up, project, sample_nearest
 from engine.formats.layout import EffectsLayout, RemovedLayout
@@ -62,7 +73,7 @@ class RemovalConfig:
     # views saw through a gap under the object (tabletop: +0.6 dB outside the hole, +0.8 on the revealed part;
     # statue +0.5/+0.8, livingroom +0.1/+0.4; docs/BENCHMARKS.md)
     hull_share: float = 0.9
-    effects: bool = True  # also remove the object's cast shadow (relight it) and write removed/effects
+    effects: bool = True  # also undo the object's shadow and darkening (relight them), write removed/effects
     out: str = ""  # default RUN/removed
     scene: str = ""  # default: the scene named in the run's config.json
     device: str = "auto"
@@ -141,17 +152,10 @@ def run_removal(config: RemovalConfig) -> dict:
                    enumerate(render_pictures(source, scene.cameras, run.sh_degree, device, run.classifier,
                                                     depth=obj is None))]  # a box's region is its depth
     after = list(render_pictures(remaining, scene.cameras, run.sh_degree, device))
-    shadow, search = None, None
+    effects = None
     if config.effects:
-        train = scene.train
-        samples = Samples.from_views([scene.cameras[i] for i in train], [after[i].rgb for i in train],
-                                     [after[i].depth for i in train], [regions[i] for i in train])
-        search = find_shadow(remaining, core, plane, samples, EffectsConfig())
-        shadow = search.shadow
-        if shadow is not None:
-            remaining = relight(remaining, shadow)
-            relit = render_pictures(remaining, scene.cameras, run.sh_degree, device, depth=False)
-            after = [dataclasses.replace(old, rgb=new.rgb) for old, new in zip(after, relit, strict=True)]
+        remaining, after, effects = _undo_effects(run, remaining, core, plane, regions, after, device)
+    shadow = effects.search.shadow if effects else None
     with atomic_output_dir(out) as tmp_root:
         tmp = RemovedLayout(tmp_root)
         save_ply(tmp.point_cloud, remaining)
@@ -180,25 +184,70 @@ def run_removal(config: RemovalConfig) -> dict:
                   "shadow": shadow.report() if shadow else None,
                   "psnr_outside_hole": float(np.mean(scores)) if scores else None,
                   "psnr_revealed": float(np.mean(revealed)) if revealed else None, "views_scored": len(scores)}
-        if config.effects:
-            report["effects"] = _write_effects(tmp.effects, scene, remaining, search, regions, after, device)
+        if effects is not None:
+            report["effects"] = _write_effects(tmp.effects, scene, remaining, effects, regions, after, device)
         tmp.report.write_text(json.dumps(report, indent=1))
     emit("done", stage="removal", out=str(out), removed=report["removed"],
          psnr_outside_hole=report["psnr_outside_hole"], shadow=report["shadow"])
     return report
 
 
-def _write_effects(out: EffectsLayout, scene, gaussians, search: ShadowSearch, regions: list[np.ndarray],
+@dataclass
+class _Effects:
+    """What `remove` found the object did around itself and undid: its cast shadow (or why none) and the
+    darkening under and beside it."""
+
+    search: ShadowSearch
+    contact: ContactShade | None
+
+    def weights(self, n: int) -> np.ndarray | None:
+        """(n,) per remaining Gaussian, the share of an effect it carries; None where nothing was found."""
+        shadow, contact = self.search.shadow, self.contact
+        parts = ([effect_weights(shadow.shadowed, shadow.darkness)] if shadow else []) + \
+            ([effect_weights(contact.shaded, contact.weight)] if contact else [])
+        return np.maximum.reduce(parts) if parts else None
+
+
+def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: list[np.ndarray], after: list,
+                  device) -> tuple[dict, list, _Effects]:
+    """Relight the object's cast shadow, then the darkening under and beside it, each judged by the views'
+    renders of the scene as it stands; the relit Gaussians and their renders (depth unchanged)."""
+    scene, train, config = run.scene, run.scene.train, EffectsConfig()
+    cameras = [scene.cameras[i] for i in train]
+    samples = Samples.from_views(cameras, [after[i].rgb for i in train], [after[i].depth for i in train],
+                                 [regions[i] for i in train])
+    search = find_shadow(remaining, core, plane, samples, config)
+    if search.shadow is not None:
+        remaining = relight(remaining, search.shadow)
+        after = _rerendered(run, remaining, after, device)
+    # the regions too: what the views saw under an overhang shows inside them in the removed renders
+    shown = Samples.from_views(cameras, [after[i].rgb for i in train], [after[i].depth for i in train],
+                               [np.zeros_like(regions[i]) for i in train])
+    contact = find_contact_shade(remaining, core, plane, shown.points, shown.colors, config.min_contrast,
+                                 config.band_below, config.contact_reach)
+    if contact is not None:
+        remaining = brighten(remaining, contact.shaded, contact.gains)
+        after = _rerendered(run, remaining, after, device)
+    return remaining, after, _Effects(search, contact)
+
+
+def _rerendered(run: TrainedRun, gaussians, after: list, device) -> list:
+    """`after` with its colours rendered again from `gaussians` (relighting moves no surface)."""
+    new = render_pictures(gaussians, run.scene.cameras, run.sh_degree, device, depth=False)
+    return [dataclasses.replace(old, rgb=picture.rgb) for old, picture in zip(after, new, strict=True)]
+
+
+def _write_effects(out: EffectsLayout, scene, gaussians, effects: _Effects, regions: list[np.ndarray],
                    after: list, device) -> dict:
-    """removed/effects: each view's shadow mask, effects.json (with what the search weighed) and a contact
-    sheet (an empty mask per view where no shadow was found, so later stages need not ask)."""
-    shadow = search.shadow
-    weights = effect_weights(shadow) if shadow else None
+    """removed/effects: each view's effect mask (the relit shadow and darkening), effects.json (with what the
+    shadow search weighed) and a contact sheet (an empty mask per view where nothing was found, so later
+    stages need not ask)."""
+    weights = effects.weights(len(gaussians["means"]))
     recall, precision, sheet = [], [], []
     out.root.mkdir()
     progress = Progress("effects", len(scene.cameras))
     for i, camera in enumerate(scene.cameras):
-        mask = (effect_mask(gaussians, weights, camera, device) if shadow
+        mask = (effect_mask(gaussians, weights, camera, device) if weights is not None
                 else np.zeros((camera.height, camera.width), dtype=bool))
         write_png(out.mask(camera.name), mask.astype(np.uint8) * 255)
         if i in scene.effects and i in scene.test:
@@ -218,7 +267,9 @@ def _write_effects(out: EffectsLayout, scene, gaussians, search: ShadowSearch, r
     progress.close()
     if sheet:
         write_png(out.sheet, np.concatenate(sheet, axis=0))
-    report = {"shadow": shadow.report() if shadow else None, "search": search.report(),
+    shadow = effects.search.shadow
+    report = {"shadow": shadow.report() if shadow else None, "search": effects.search.report(),
+              "contact": effects.contact.report() if effects.contact else None,
               "recall": float(np.mean(recall)) if recall else None,
               "precision": float(np.mean(precision)) if precision else None, "views_scored": len(recall)}
     out.report.write_text(json.dumps(report, indent=1))

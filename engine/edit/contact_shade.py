@@ -1,0 +1,100 @@
+"""The darkening an object leaves on its support under and beside itself (the sky it hid: ambient
+occlusion, the contact shadow), found without a light and undone by relighting.
+
+The cast-shadow search (engine.edit.effects) finds what one light threw; what stays after it is softer:
+strongest under an overhang, fading away from it. The views that saw the support under a snowman's ball
+saw it dark, so the removed scene keeps a dark disc larger than the hole there (livingroom: with the
+shadow's missed rim, about half of the error outside the hole). Found as a shading field on the plane:
+
+1. The zone: the object's footprint seen from straight above, grown by `contact_reach` x its radius.
+2. Each cell's shading is the mean log colour of the views' samples of the support (relit: after the cast
+   shadow) within `window` cells; the reference is the same over the lit support just beyond the zone,
+   from a window wide enough to reach it (so a cell on a pink mat is compared with the pink mat beside it).
+   A texture finer than the window averages out of both, so what is left is the light it had.
+3. Cells darker than their reference by more than `min_contrast` (log-luminance) are shaded; the support's
+   Gaussians in them are multiplied by the ratio, per channel, blended in over one `min_contrast` so the
+   edge leaves no seam. Where the texture survived, it comes back as it was; cells no view saw (the hole)
+   have no samples and are left to the inpainters.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from engine.edit.effects import LUMA
+from engine.edit.plane_grid import Site
+from engine.io.gaussians import Gaussians
+
+MIN_SAMPLES = 8  # per window, for a shading estimate
+
+
+@dataclass
+class ContactShade:
+    """The darkening found: which remaining Gaussians it covers and how much each is brightened."""
+
+    shaded: np.ndarray  # (N,) bool over the remaining Gaussians
+    gains: np.ndarray  # (S, 3) per shaded Gaussian, >= 1
+    weight: np.ndarray  # (S,) 0 (at the threshold) to 1 (clearly darker): the effect mask's share
+    contrast: float  # the darkest cell's log-luminance below its reference
+
+    def report(self) -> dict:
+        return {"shaded_gaussians": int(self.shaded.sum()), "clearly_darker": int((self.weight > 0.5).sum()),
+                "max_gain": np.round(self.gains.max(0), 3).tolist() if len(self.gains) else None,
+                "contrast": round(self.contrast, 3)}
+
+
+def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, float] | None,
+                       points: np.ndarray, colors: np.ndarray, min_contrast: float, band_below: float,
+                       reach: float = 0.5, window: int = 2, most: float = 3.0) -> ContactShade | None:
+    """The darkening under and beside the object (core centres `obj`) on `plane`, read off what the views
+    show of the support (`points`, `colors` in [0, 1]: the removed scene's renders, its object regions
+    included, since what the views saw under an overhang shows there); None where nothing is darker than
+    around it. A cell's gain is at most `most`."""
+    if plane is None or len(obj) < 20:
+        return None
+    site = Site.of(obj, plane)
+    frame, grid = site.frame, site.grid
+    grow = max(1, round(reach * site.radius / grid.cell))
+    above = grid.raster(frame.flat(obj))
+    zone = _grown(above, grow)
+    beyond = _grown(above, 2 * grow) & ~zone
+    support = site.near_plane(points, band_below)
+    ij, on_grid = grid.index(frame.flat(points[support]))
+    ij, log_c = ij[on_grid], np.log(colors[support][on_grid] + 1e-3)
+    local = _window_mean(grid.size, ij, log_c, np.ones(len(ij), bool), 2 * window + 1)
+    reference = _window_mean(grid.size, ij, log_c, beyond[ij[:, 0], ij[:, 1]], 2 * (2 * grow + window) + 1)
+    darker = (reference - local) @ LUMA / LUMA.sum()
+    weight = np.where(zone & np.isfinite(darker), np.clip((darker - 0.5 * min_contrast) / min_contrast, 0, 1), 0.0)
+    if not (weight > 0.5).any():
+        return None
+    gain = np.exp(weight[..., None] * np.nan_to_num(reference - local))
+    gain = np.clip(cv2.blur(gain.astype(np.float32), (3, 3)), 1.0, most)
+    weight = cv2.blur(weight.astype(np.float32), (3, 3))
+    means = remaining["means"].numpy()
+    shaded = site.near_plane(means, band_below)
+    shaded[shaded] = grid.cells(weight, frame.flat(means[shaded])) > 0
+    flat = frame.flat(means[shaded])
+    return ContactShade(shaded=shaded, gains=grid.cells(gain, flat), weight=grid.cells(weight, flat),
+                        contrast=float(np.nanmax(np.where(zone, darker, np.nan))))
+
+
+def _grown(cells: np.ndarray, by: int) -> np.ndarray:
+    return cv2.dilate(cells.astype(np.uint8), cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * by + 1,) * 2)) > 0
+
+
+def _window_mean(size: int, ij: np.ndarray, values: np.ndarray, use: np.ndarray, width: int) -> np.ndarray:
+    """(size, size, C) mean of the `values` (M, C) of samples in cells `ij` that `use` over a window `width`
+    cells wide around each cell; NaN where it holds fewer than MIN_SAMPLES."""
+    sums = np.zeros((size, size, values.shape[1]), np.float64)
+    counts = np.zeros((size, size), np.float64)
+    np.add.at(sums, (ij[use, 0], ij[use, 1]), values[use])
+    np.add.at(counts, (ij[use, 0], ij[use, 1]), 1.0)
+    box = (width, width)
+    sums = np.stack([cv2.boxFilter(sums[..., c], -1, box, normalize=False, borderType=cv2.BORDER_CONSTANT)
+                     for c in range(values.shape[1])], -1)
+    counts = cv2.boxFilter(counts, -1, box, normalize=False, borderType=cv2.BORDER_CONSTANT)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where((counts >= MIN_SAMPLES)[..., None], sums / counts[..., None], np.nan)

@@ -1,0 +1,108 @@
+"""The support plane as a frame and a grid of cells over it around the object: where the effects of an
+object on its support (its cast shadow, the darkening under and beside it) are found and relit."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+
+@dataclass
+class PlaneFrame:
+    """The support plane as a frame: unit normal n (up), in-plane axes a and b, offset d (n.p + d = 0)."""
+
+    n: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    d: float
+
+    @classmethod
+    def of(cls, n: np.ndarray, d: float) -> PlaneFrame:
+        a = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+        a /= np.linalg.norm(a)
+        return cls(n=n, a=a, b=np.cross(n, a), d=float(d))
+
+    def height(self, p: np.ndarray) -> np.ndarray:
+        return p @ self.n + self.d
+
+    def cast(self, p: np.ndarray, light: np.ndarray) -> np.ndarray:
+        """(N, 2) in-plane coordinates where the light's rays through `p` meet the plane."""
+        on_plane = p - (self.height(p) / (light @ self.n))[:, None] * light[None]
+        return np.stack([on_plane @ self.a, on_plane @ self.b], axis=1)
+
+    def flat(self, p: np.ndarray) -> np.ndarray:
+        """(N, 2) in-plane coordinates straight below `p`."""
+        return np.stack([p @ self.a, p @ self.b], axis=1)
+
+    def light(self, elevation: float, azimuth: float) -> np.ndarray:
+        el, az = math.radians(elevation), math.radians(azimuth)
+        return math.cos(el) * (math.cos(az) * self.a + math.sin(az) * self.b) + math.sin(el) * self.n
+
+
+@dataclass(frozen=True)
+class PlaneGrid:
+    """A square grid of cells over the plane around the object, for casting footprints."""
+
+    origin: np.ndarray
+    cell: float
+    size: int
+
+    def index(self, flat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(N, 2) cell indices of in-plane points and (N,) whether each falls on the grid."""
+        ij = np.floor((flat - self.origin) / self.cell).astype(int)
+        return ij, (ij >= 0).all(1) & (ij < self.size).all(1)
+
+    def raster(self, flat: np.ndarray) -> np.ndarray:
+        """(size, size) bool occupancy of in-plane points, small gaps closed."""
+        ij, ok = self.index(flat)
+        occupied = np.zeros((self.size, self.size), np.uint8)
+        occupied[ij[ok, 0], ij[ok, 1]] = 1
+        return cv2.morphologyEx(occupied, cv2.MORPH_CLOSE, np.ones((3, 3), np.uint8)) > 0
+
+    def cells(self, occupied: np.ndarray, flat: np.ndarray) -> np.ndarray:
+        """(N,) values of the grid `occupied` (bool or any per-cell array) at in-plane points; zero off it."""
+        ij, ok = self.index(flat)
+        values = np.zeros((len(flat), *occupied.shape[2:]), dtype=occupied.dtype)
+        values[ok] = occupied[ij[ok, 0], ij[ok, 1]]
+        return values
+
+    def shadowed(self, frame: PlaneFrame, light: np.ndarray, obj: np.ndarray, points: np.ndarray) -> np.ndarray:
+        """(N,) bool: which `points` lie in the shadow of the `obj` points cast by `light`."""
+        return self.cells(self.raster(frame.cast(obj, light)), frame.cast(points, light))
+
+
+@dataclass(frozen=True)
+class Site:
+    """Where the object stood: the plane's frame, the object's height, its centre and radius across the plane,
+    how far around it its effects are looked for, and the grid over that."""
+
+    frame: PlaneFrame
+    size: float
+    centre: np.ndarray
+    radius: float
+    reach: float
+    grid: PlaneGrid
+
+    @classmethod
+    def of(cls, obj: np.ndarray, plane: tuple[np.ndarray, float]) -> Site:
+        """For the object's core Gaussians' centres `obj` standing on `plane`; the reach is the shadow of a
+        light 18 degrees above the plane."""
+        frame = PlaneFrame.of(*plane)
+        heights = frame.height(obj)
+        size = float(np.percentile(heights, 98) - np.percentile(heights, 2))
+        flat = frame.flat(obj)
+        centre = np.median(flat, axis=0)
+        radius = float(np.percentile(np.linalg.norm(flat - centre, axis=1), 95))
+        reach = radius + 3.0 * size
+        cell = radius / 12
+        grid = PlaneGrid(centre - reach, cell, int(math.ceil(2 * reach / cell)) + 1)
+        return cls(frame=frame, size=size, centre=centre, radius=radius, reach=reach, grid=grid)
+
+    def near_plane(self, points: np.ndarray, below: float) -> np.ndarray:
+        """(N,) bool: within reach across the plane, from `below` x the object's height under it to 5% above."""
+        h, across = self.frame.height(points), self.frame.flat(points)
+        return ((np.linalg.norm(across - self.centre, axis=1) < self.reach) & (h > -below * self.size)
+                & (h < 0.05 * self.size))
