@@ -1,6 +1,6 @@
-"""Object effects (the cast shadow found and relit in 3D), the surface depth the hole masks use, the
-generator's exact effect regions, and the one-fill-for-every-view reprojection: hand-built scenes with a
-worked-out answer, then the removal stage on a tiny run."""
+"""Object effects (the cast shadow found and relit in 3D, the darkening under an overhang relit), the surface
+depth the hole masks use, the generator's exact effect regions, and the one-fill-for-every-view reprojection:
+hand-built scenes with a worked-out answer, then the removal stage on a tiny run."""
 
 from __future__ import annotations
 
@@ -91,6 +91,55 @@ def test_no_shadow_is_claimed_where_the_surface_around_the_object_is_evenly_lit(
     search = search_of(gaussians(floor, lit), gaussians(box, np.full((len(box), 3), 0.9)), samples)
     assert search.shadow is None
     assert search.verdict == "no candidate darker than chance by min_contrast" and search.report()["receivers"] > 200
+
+
+def overhang_scene(darken: float):
+    """A floor (z = 0) of Gaussians striped finer than the shading window, a ball of radius 0.4 resting on it at
+    the origin, and the floor under and beside the ball darkened by `darken` (to r = 0.4, fading out by 0.6):
+    the sky the ball hid. Returns the floor, its lit and its seen colours, and the ball's points."""
+    xs = np.arange(-1.5, 1.5, SPACING / 2)
+    floor = np.stack(np.meshgrid(xs, xs, indexing="ij"), -1).reshape(-1, 2)
+    floor = np.concatenate([floor, np.zeros((len(floor), 1))], 1)
+    lit = np.where((np.floor(floor[:, 0] / 0.06) % 2 == 1)[:, None], [0.8, 0.6, 0.5], [0.6, 0.45, 0.4])
+    r = np.linalg.norm(floor[:, :2], axis=1)
+    shade = 1 - (1 - darken) * np.clip((0.6 - r) / 0.2, 0, 1)
+    rng = np.random.default_rng(0)
+    ball = rng.normal(size=(3000, 3))
+    ball = 0.4 * ball / np.linalg.norm(ball, axis=1, keepdims=True) + [0.0, 0.0, 0.4]
+    return floor, lit, lit * shade[:, None], ball
+
+
+def test_the_darkening_under_an_overhang_is_relit_to_the_floor_around_it_texture_kept():
+    from engine.edit.contact_shade import find_contact_shade
+    from engine.edit.effects import brighten
+
+    floor, lit, seen, ball = overhang_scene(darken=0.5)
+    up = np.array([0.0, 0.0, 1.0])
+    core = object_core(gaussians(ball, np.full((len(ball), 3), 0.9)), up)
+    remaining = gaussians(floor, seen)
+    plane = object_support(floor, core, up)
+    found = find_contact_shade(remaining, core, plane, floor, seen, EffectsConfig().min_contrast,
+                               EffectsConfig().band_below, EffectsConfig().contact_reach)
+    assert found is not None
+    r = np.linalg.norm(floor[:, :2], axis=1)
+    after = colors_of(brighten(remaining, found.shaded, found.gains))
+    inner = r < 0.35
+    assert np.abs(after[inner] - lit[inner]).mean() < 0.25 * np.abs(seen[inner] - lit[inner]).mean()
+    stripes = np.corrcoef(after[inner, 0], lit[inner, 0])[0, 1]
+    assert stripes > 0.9  # the texture came back, not a flat average
+    far = r > 1.2
+    assert not found.shaded[far].any() and np.allclose(after[far], seen[far])
+    assert found.weight[inner[found.shaded]].mean() > 0.9  # the effect masks take it
+
+
+def test_no_darkening_is_claimed_under_an_object_that_cast_none():
+    from engine.edit.contact_shade import find_contact_shade
+
+    floor, lit, _, ball = overhang_scene(darken=1.0)
+    up = np.array([0.0, 0.0, 1.0])
+    core = object_core(gaussians(ball, np.full((len(ball), 3), 0.9)), up)
+    assert find_contact_shade(gaussians(floor, lit), core, object_support(floor, core, up), floor, lit,
+                              EffectsConfig().min_contrast, EffectsConfig().band_below) is None
 
 
 def front_camera() -> Camera:
@@ -202,12 +251,12 @@ def test_removal_writes_the_effects_folder_for_every_view(tiny_run, tmp_path):
     report = run_removal(RemovalConfig(run=str(tiny_run), object="plush", out=str(out), device="cpu"))
     effects = RemovedLayout(out).effects
     saved = json.loads(effects.report.read_text())
-    assert set(saved) >= {"shadow", "search", "recall", "precision", "views_scored"}
+    assert set(saved) >= {"shadow", "search", "contact", "recall", "precision", "views_scored"}
     assert (saved["search"]["verdict"] == "found") == (saved["shadow"] is not None)
     assert report["support_plane"] is not None and json.loads((out / "removal.json").read_text())["support_plane"]
     scene = load_run(tiny_run).scene
     for camera in scene.cameras:
         assert read_png(effects.mask(camera.name), "mask", camera.size).shape == (camera.height, camera.width)
     assert effects.sheet.is_file()
-    if saved["shadow"] is not None:  # the tiny scene's shadow is scored against the generator's effects/
+    if saved["shadow"] or saved["contact"]:  # what was found is scored against the generator's effects/
         assert saved["views_scored"] == len([i for i in scene.test if i in scene.effects])

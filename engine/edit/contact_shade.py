@@ -6,7 +6,7 @@ strongest under an overhang, fading away from it. The views that saw the support
 saw it dark, so the removed scene keeps a dark disc larger than the hole there (livingroom: with the
 shadow's missed rim, about half of the error outside the hole). Found as a shading field on the plane:
 
-1. The zone: the object's footprint seen from straight above, grown by `contact_reach` x its radius.
+1. The zone: the object's footprint seen from straight above, grown by `reach` x its radius.
 2. Each cell's shading is the mean log colour of the views' samples of the support (relit: after the cast
    shadow) within `window` cells; the reference is the same over the lit support just beyond the zone,
    from a window wide enough to reach it (so a cell on a pink mat is compared with the pink mat beside it).
@@ -48,7 +48,7 @@ class ContactShade:
 
 def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, float] | None,
                        points: np.ndarray, colors: np.ndarray, min_contrast: float, band_below: float,
-                       reach: float = 0.5, window: int = 2, most: float = 3.0) -> ContactShade | None:
+                       reach: float = 0.75, window: int = 2, most: float = 3.0) -> ContactShade | None:
     """The darkening under and beside the object (core centres `obj`) on `plane`, read off what the views
     show of the support (`points`, `colors` in [0, 1]: the removed scene's renders, its object regions
     included, since what the views saw under an overhang shows there); None where nothing is darker than
