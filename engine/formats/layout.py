@@ -191,7 +191,7 @@ class HolesLayout(_MaskFolder):
 @dataclass(frozen=True)
 class EffectsLayout(_MaskFolder):
     """Inside `remove`'s output: per view, the pixels of what the object did to its surroundings (its
-    shadow), which the removed scene was relit to undo."""
+    shadow, the darkening under it), which the removed scene was relit to undo."""
 
     report_name = "effects.json"
 
