@@ -118,8 +118,7 @@ def test_the_darkening_under_an_overhang_is_relit_to_the_floor_around_it_texture
     core = object_core(gaussians(ball, np.full((len(ball), 3), 0.9)), up)
     remaining = gaussians(floor, seen)
     plane = object_support(floor, core, up)
-    found = find_contact_shade(remaining, core, plane, floor, seen, EffectsConfig().min_contrast,
-                               EffectsConfig().band_below, EffectsConfig().contact_reach)
+    found = find_contact_shade(remaining, core, plane, Samples(floor, seen), EffectsConfig())
     assert found is not None
     r = np.linalg.norm(floor[:, :2], axis=1)
     after = colors_of(brighten(remaining, found.shaded, found.gains))
@@ -138,8 +137,8 @@ def test_no_darkening_is_claimed_under_an_object_that_cast_none():
     floor, lit, _, ball = overhang_scene(darken=1.0)
     up = np.array([0.0, 0.0, 1.0])
     core = object_core(gaussians(ball, np.full((len(ball), 3), 0.9)), up)
-    assert find_contact_shade(gaussians(floor, lit), core, object_support(floor, core, up), floor, lit,
-                              EffectsConfig().min_contrast, EffectsConfig().band_below) is None
+    assert find_contact_shade(gaussians(floor, lit), core, object_support(floor, core, up), Samples(floor, lit),
+                              EffectsConfig()) is None
 
 
 def front_camera() -> Camera:

@@ -6,15 +6,15 @@ strongest under an overhang, fading away from it. The views that saw the support
 saw it dark, so the removed scene keeps a dark disc larger than the hole there (livingroom: with the
 shadow's missed rim, about half of the error outside the hole). Found as a shading field on the plane:
 
-1. The zone: the object's footprint seen from straight above, grown by `reach` x its radius.
+1. The zone: the object's footprint seen from straight above, grown by `contact_reach` x its radius.
 2. Each cell's shading is the mean log colour of the views' samples of the support (relit: after the cast
    shadow) within `window` cells; the reference is the same over the lit support just beyond the zone,
    from a window wide enough to reach it (so a cell on a pink mat is compared with the pink mat beside it).
    A texture finer than the window averages out of both, so what is left is the light it had.
 3. Cells darker than their reference by more than `min_contrast` (log-luminance) are shaded; the support's
    Gaussians in them are multiplied by the ratio, per channel, blended in over one `min_contrast` so the
-   edge leaves no seam. Where the texture survived, it comes back as it was; cells no view saw (the hole)
-   have no samples and are left to the inpainters.
+   edge leaves no seam. Where the texture survived, it comes back as it was. Inside the hole the renders
+   show whatever was left there, which is relit too; the hole masks hand it to the inpainters all the same.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from engine.edit.effects import LUMA
+from engine.edit.effects import LUMA, EffectsConfig, Samples
 from engine.edit.plane_grid import Site
 from engine.io.gaussians import Gaussians
 
@@ -42,22 +42,24 @@ class ContactShade:
 
     def report(self) -> dict:
         return {"shaded_gaussians": int(self.shaded.sum()), "clearly_darker": int((self.weight > 0.5).sum()),
-                "max_gain": np.round(self.gains.max(0), 3).tolist() if len(self.gains) else None,
+                "max_gain": [round(float(g), 3) for g in self.gains.max(0)] if len(self.gains) else None,
                 "contrast": round(self.contrast, 3)}
 
 
 def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, float] | None,
-                       points: np.ndarray, colors: np.ndarray, min_contrast: float, band_below: float,
-                       reach: float = 0.75, window: int = 2, most: float = 3.0) -> ContactShade | None:
+                       shown: Samples, config: EffectsConfig, window: int = 2,
+                       most: float = 3.0) -> ContactShade | None:
     """The darkening under and beside the object (core centres `obj`) on `plane`, read off what the views
-    show of the support (`points`, `colors` in [0, 1]: the removed scene's renders, its object regions
-    included, since what the views saw under an overhang shows there); None where nothing is darker than
-    around it. A cell's gain is at most `most`."""
+    `shown` of the support (the removed scene's renders, its object regions included, since what the views
+    saw under an overhang shows there); None where nothing is darker than around it. A cell's gain is at
+    most `most`."""
     if plane is None or len(obj) < 20:
         return None
     site = Site.of(obj, plane)
     frame, grid = site.frame, site.grid
-    grow = max(1, round(reach * site.radius / grid.cell))
+    grow = max(1, round(config.contact_reach * site.radius / grid.cell))
+    min_contrast, band_below = config.min_contrast, config.band_below
+    points, colors = shown.points, shown.colors
     above = grid.raster(frame.flat(obj))
     zone = _grown(above, grow)
     beyond = _grown(above, 2 * grow) & ~zone

@@ -223,8 +223,7 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
     # the regions too: what the views saw under an overhang shows inside them in the removed renders
     shown = Samples.from_views(cameras, [after[i].rgb for i in train], [after[i].depth for i in train],
                                [np.zeros_like(regions[i]) for i in train])
-    contact = find_contact_shade(remaining, core, plane, shown.points, shown.colors, config.min_contrast,
-                                 config.band_below, config.contact_reach)
+    contact = find_contact_shade(remaining, core, plane, shown, config)
     if contact is not None:
         remaining = brighten(remaining, contact.shaded, contact.gains)
         after = _rerendered(run, remaining, after, device)

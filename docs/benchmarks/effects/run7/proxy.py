@@ -3,9 +3,11 @@ darkening yet; dumped by dump5.py) lifted to 3D with their depth, each test-view
 find_contact_shade gives its surface point, and scored outside the true hole against gt/.
 
 Run from the repository root: PYTHONPATH=. python docs/benchmarks/effects/run7/proxy.py SCENE DUMPDIR [k=v ...]
-(SCENE under .bench/, DUMPDIR holding SCENE_dump.npz and SCENE/ from the tar; k=v go to find_contact_shade).
+(SCENE under .bench/, DUMPDIR holding SCENE_dump.npz and SCENE/ from the tar; reach=X sets contact_reach,
+other k=v go to find_contact_shade). The numbers in docs/BENCHMARKS.md ran with reach passed as an argument.
 """
 
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -20,12 +22,12 @@ from engine.io.scene import load_scene
 
 name, dumps = sys.argv[1], Path(sys.argv[2])
 options = {k: float(v) if "." in v else int(v) for k, v in (a.split("=") for a in sys.argv[3:])}
+config = dataclasses.replace(EffectsConfig(), contact_reach=options.pop("reach", EffectsConfig().contact_reach))
 scene = load_scene(Path(".bench") / name)
 removed = dumps / name
 dump = np.load(dumps / f"{name}_dump.npz")
 depth = dump["depth"].astype(np.float32)
 plane, core = (dump["plane"][:3], float(dump["plane"][3])), dump["core"]
-config = EffectsConfig()
 
 
 def image(i: int) -> np.ndarray:
@@ -46,8 +48,7 @@ for i in scene.test:
     u, v = pixel_grid(camera)
     ok = np.isfinite(depth[i]) & (depth[i] > 0)
     points = torch.from_numpy(backproject(camera, u[ok], v[ok], depth[i][ok]).astype(np.float32))
-    found = find_contact_shade({"means": points}, core, plane, shown.points, shown.colors, config.min_contrast,
-                               config.band_below, **options)
+    found = find_contact_shade({"means": points}, core, plane, shown, config, **options)
     relit, weight = rgb.copy(), np.zeros(ok.shape)
     if found is not None:
         gains, shares = np.ones((ok.sum(), 3)), np.zeros(ok.sum())
