@@ -27,6 +27,7 @@ import numpy as np
 from engine.edit.effects import LUMA, EffectsConfig, Samples
 from engine.edit.plane_grid import Site
 from engine.io.gaussians import Gaussians
+from engine.io.masks import dilate
 
 MIN_SAMPLES = 8  # per window, for a shading estimate
 
@@ -61,8 +62,8 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     min_contrast, band_below = config.min_contrast, config.band_below
     points, colors = shown.points, shown.colors
     above = grid.raster(frame.flat(obj))
-    zone = _grown(above, grow)
-    beyond = _grown(above, 2 * grow) & ~zone
+    zone = dilate(above, grow)
+    beyond = dilate(above, 2 * grow) & ~zone
     support = site.near_plane(points, band_below)
     ij, on_grid = grid.index(frame.flat(points[support]))
     ij, log_c = ij[on_grid], np.log(colors[support][on_grid] + 1e-3)
@@ -81,10 +82,6 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     flat = frame.flat(means[shaded])
     return ContactShade(shaded=shaded, gains=grid.cells(gain, flat), weight=grid.cells(weight, flat),
                         contrast=float(np.nanmax(np.where(zone, darker, np.nan))))
-
-
-def _grown(cells: np.ndarray, by: int) -> np.ndarray:
-    return cv2.dilate(cells.astype(np.uint8), cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * by + 1,) * 2)) > 0
 
 
 def _window_mean(size: int, ij: np.ndarray, values: np.ndarray, use: np.ndarray, width: int) -> np.ndarray:

@@ -200,8 +200,8 @@ class _Effects:
     search: ShadowSearch
     contact: ContactShade | None
 
-    def weights(self, n: int) -> np.ndarray | None:
-        """(n,) per remaining Gaussian, the share of an effect it carries; None where nothing was found."""
+    def weights(self) -> np.ndarray | None:
+        """(N,) per remaining Gaussian, the share of an effect it carries; None where nothing was found."""
         shadow, contact = self.search.shadow, self.contact
         parts = ([effect_weights(shadow.shadowed, shadow.darkness)] if shadow else []) + \
             ([effect_weights(contact.shaded, contact.weight)] if contact else [])
@@ -241,7 +241,7 @@ def _write_effects(out: EffectsLayout, scene, gaussians, effects: _Effects, regi
     """removed/effects: each view's effect mask (the relit shadow and darkening), effects.json (with what the
     shadow search weighed) and a contact sheet (an empty mask per view where nothing was found, so later
     stages need not ask)."""
-    weights = effects.weights(len(gaussians["means"]))
+    weights = effects.weights()
     recall, precision, sheet = [], [], []
     out.root.mkdir()
     progress = Progress("effects", len(scene.cameras))
