@@ -8,6 +8,7 @@ layout.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import shutil
 from dataclasses import dataclass
@@ -24,7 +25,7 @@ from engine.formats.layout import RendersLayout, SceneLayout
 from engine.io.colmap_model import ColmapModel, write_model
 from engine.io.image_io import linear_to_srgb8, read_exr_channels, write_depth, write_png
 from engine.io.masks import dilate
-from engine.io.visibility import DEFAULT_REL_TOL, seen_by_any, unseen_mask
+from engine.io.visibility import exact_tolerance, seen_by_any, unseen_mask
 
 BACKGROUND_DEPTH = 1e9  # Cycles writes 1e10 where a ray hits nothing; stored as inf
 EFFECT_DIFF = 12  # of 255: a change this large is the object's doing, not Cycles' noise between two renders
@@ -36,7 +37,7 @@ class BuildConfig:
 
     max_points: int = 30_000  # sparse points written to the COLMAP model
     max_track: int = 4  # observations kept per point
-    rel_tol: float = DEFAULT_REL_TOL  # depth tolerance of the ground-truth hole test
+    rel_tol: float | None = None  # depth tolerance of the ground-truth hole test (None: exact_tolerance)
     seed: int = 0
 
 
@@ -73,6 +74,8 @@ def build_scene(renders: Path, out: Path, config: BuildConfig = BuildConfig()) -
     split = json.loads(source.split_json.read_text())
     objects = json.loads(source.objects_json.read_text())
     target_id = next(o["id"] for o in objects if o["target"])
+    if config.rel_tol is None:
+        config = dataclasses.replace(config, rel_tol=exact_tolerance(cameras))
     train = [i for i, c in enumerate(cameras) if c.name in set(split["train"])]
     with atomic_output_dir(out) as tmp_root:
         tmp = SceneLayout(tmp_root)

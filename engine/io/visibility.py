@@ -14,6 +14,18 @@ from engine.formats.cameras import Camera, backproject, pixel_grid, project, sam
 DEFAULT_REL_TOL = 0.01  # 1% of depth: above Cycles' one-sample depth jitter, below object thickness
 
 
+def exact_tolerance(cameras: list[Camera]) -> float:
+    """The depth tolerance for exact (rendered, not trained) depth maps: 2/focal of depth, at most 1%.
+
+    Cycles' depth is one sample anywhere in the pixel, so on a slanted surface it jitters by up to half a
+    pixel of depth slope, about 1/focal of depth at grazing angles: the tolerance must follow the pixel. A
+    fixed 1% is 8 mm at 0.8 m, and at 640 px it called points 2-7 mm behind the tabletop's toy seen
+    (its exact holes a third too small; docs/BENCHMARKS.md, "Eighth trainings"). Small images keep 1%.
+    """
+    focal = min(min(c.fx, c.fy) for c in cameras)
+    return min(DEFAULT_REL_TOL, 2.0 / focal)
+
+
 def farthest_nearby(depth: np.ndarray, pixels: int = 1) -> np.ndarray:
     """`depth` (H, W) with each pixel's farthest depth within `pixels` (inf is farthest), for rendered depth.
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from engine.edit.holes import iou
 from engine.io.scene import load_scene
-from engine.io.visibility import unseen_mask
+from engine.io.visibility import exact_tolerance, unseen_mask
 
 for path in map(Path, sys.argv[1:]):
     scene = load_scene(path)
@@ -27,10 +27,10 @@ for path in map(Path, sys.argv[1:]):
     for i in sorted(scene.gt_depths):
         region = scene.masks[i] == tid
         ours = unseen_mask(scene.cameras[i], region, scene.gt_depths[i], train, depths, 0.01, occluders)
-        for tol in (0.01, 0.005, 0.003, 0.002):
+        for tol in (0.01, 0.005, 0.003, 0.002, exact_tolerance(scene.cameras)):
             truth = unseen_mask(scene.cameras[i], region, scene.gt_depths[i], train, depths, tol)
             rows.setdefault(tol, []).append((iou(ours, truth), truth.sum() / max(1, region.sum())))
     for tol, values in rows.items():
         values = np.array(values)
-        print(f"{path.name} truth at {tol:.1%}: our rule on exact depth IoU {values[:, 0].mean():.3f}, "
+        print(f"{path.name} truth at {tol:.2%}: our rule on exact depth IoU {values[:, 0].mean():.3f}, "
               f"truth covers {values[:, 1].mean():.3f} of the object's pixels", flush=True)
