@@ -18,7 +18,8 @@ def exact_tolerance(cameras: list[Camera]) -> float:
     """The depth tolerance for exact (rendered, not trained) depth maps: 2/focal of depth, at most 1%.
 
     Cycles' depth is one sample anywhere in the pixel, so on a slanted surface it jitters by up to half a
-    pixel of depth slope, about 1/focal of depth at grazing angles: the tolerance must follow the pixel. A
+    pixel of depth slope: 1.9/focal of depth where a ray meets the surface at 15 degrees (a point met
+    more obliquely by one view is seen by others), so the tolerance must follow the pixel. A
     fixed 1% is 8 mm at 0.8 m, and at 640 px it called points 2-7 mm behind the tabletop's toy seen
     (its exact holes a third too small; docs/BENCHMARKS.md, "Eighth trainings"). Small images keep 1%.
     """
