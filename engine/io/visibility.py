@@ -11,7 +11,7 @@ import numpy as np
 
 from engine.formats.cameras import Camera, backproject, pixel_grid, project, sample_nearest
 
-DEFAULT_REL_TOL = 0.01  # 1% of depth: above Cycles' one-sample depth jitter, below object thickness
+DEFAULT_REL_TOL = 0.01  # 1% of depth: for rendered (trained) depth, blurred past Cycles' jitter; exact_tolerance's cap
 
 
 def exact_tolerance(cameras: list[Camera]) -> float:

@@ -15,19 +15,19 @@ import numpy as np
 
 from engine.edit.holes import iou
 from engine.io.scene import load_scene
-from engine.io.visibility import exact_tolerance, unseen_mask
+from engine.io.visibility import DEFAULT_REL_TOL, exact_tolerance, unseen_mask
 
 for path in map(Path, sys.argv[1:]):
     scene = load_scene(path)
-    tid = scene.target.id if hasattr(scene.target, "id") else scene.target
+    tid = scene.target.id
     train = [scene.cameras[j] for j in scene.train]
     depths = [scene.depths[j] for j in scene.train]
     occluders = [scene.masks[j] == tid for j in scene.train]
     rows = {}
     for i in sorted(scene.gt_depths):
         region = scene.masks[i] == tid
-        ours = unseen_mask(scene.cameras[i], region, scene.gt_depths[i], train, depths, 0.01, occluders)
-        for tol in (0.01, 0.005, 0.003, 0.002, exact_tolerance(scene.cameras)):
+        ours = unseen_mask(scene.cameras[i], region, scene.gt_depths[i], train, depths, DEFAULT_REL_TOL, occluders)
+        for tol in (DEFAULT_REL_TOL, 0.005, 0.003, 0.002, exact_tolerance(scene.cameras)):
             truth = unseen_mask(scene.cameras[i], region, scene.gt_depths[i], train, depths, tol)
             rows.setdefault(tol, []).append((iou(ours, truth), truth.sum() / max(1, region.sum())))
     for tol, values in rows.items():
