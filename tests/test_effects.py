@@ -220,6 +220,26 @@ def test_one_fill_is_carried_to_another_view_of_the_same_surface():
     assert carry_fill(other, hole, depth, image, ref, ref_hole, ref_depth, ref_image)[1] == 0
 
 
+def test_a_view_that_sees_the_fill_larger_than_the_reference_gets_all_of_it_and_no_speckle():
+    """The reference's pixels land 2.5 px apart in a view 2.5x closer to the wall: splatted colours leave
+    every other column and row of the hole with the view's own fill; the fill read back covers it all."""
+    from engine.complete.reference_fill import carry_fill
+
+    ref = front_camera()
+    near = Camera(name="n.png", width=40, height=30, fx=40.0, fy=40.0, cx=20.0, cy=15.0, R=np.eye(3),
+                  t=np.array([0.0, 0.0, -2.4]))  # 2.4 closer: the wall at 1.6 instead of 4
+    ref_depth, depth = np.full((30, 40), 4.0), np.full((30, 40), 1.6)
+    ref_image = wall_seen_by(ref, ref_depth)
+    ref_hole = np.zeros((30, 40), bool)
+    ref_hole[5:25, 8:32] = True
+    hole = np.zeros((30, 40), bool)
+    hole[10:20, 12:28] = True
+    filled, count = carry_fill(near, hole, depth, np.zeros((30, 40, 3), np.uint8), ref, ref_hole, ref_depth,
+                               ref_image)
+    assert count == hole.sum()
+    assert np.abs(filled[hole].astype(int) - wall_seen_by(near, depth)[hole]).max() <= 2
+
+
 def test_the_reference_is_the_fill_the_other_views_agree_with_not_the_largest_hole():
     from engine.complete.reference_fill import ViewFill, reference_view
     from engine.io.masks import dilate
