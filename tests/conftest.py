@@ -70,10 +70,20 @@ def living_scene(scenes_dir) -> Path:
     return out
 
 
+@pytest.fixture(scope="session")
+def statue_scene(scenes_dir) -> Path:
+    out = scenes_dir / "statue"
+    if not out.exists():
+        make_scene(out, "statue")
+    return out
+
+
 @pytest.fixture(scope="session", params=["tabletop", "statue", "livingroom"])
-def any_scene(request, scenes_dir, living_scene) -> Path:
+def any_scene(request, scenes_dir, living_scene, statue_scene) -> Path:
     if request.param == "livingroom":
         return living_scene
+    if request.param == "statue":
+        return statue_scene
     out = scenes_dir / request.param
     if not out.exists():
         make_scene(out, request.param)

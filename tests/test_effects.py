@@ -278,4 +278,26 @@ def test_removal_writes_the_effects_folder_for_every_view(tiny_run, tmp_path):
         assert read_png(effects.mask(camera.name), "mask", camera.size).shape == (camera.height, camera.width)
     assert effects.sheet.is_file()
     if saved["shadow"] or saved["contact"]:  # what was found is scored against the generator's effects/
-        assert saved["views_scored"] == len([i for i in scene.test if i in scene.effects])
+        assert saved["views_scored"] == len([i for i, truth in scene.effects.items() if truth.any()])
+
+
+@pytest.mark.slow
+def test_a_tiny_statue_run_finds_its_shadow_and_its_holes(statue_scene, tmp_path):
+    """Issue 16's targets for what CI can afford: on a statue scene, effect recall >= 0.6 and precision >= 0.5,
+    hole IoU >= 0.6. Measured on this scene (8 views of 96x72, 800 CPU steps), training seeds 0 / 1 / 2: recall
+    0.67 / 0.67 / 0.62, precision 0.96 / 0.93 / 0.91, hole IoU 0.68 / 0.64 / 0.65, over every view (the scene
+    has gt/ for all). Before the casts were closed to the object's point spacing and the band below the plane
+    followed the trained support's depth, seed 1 recalled 0.40."""
+    from engine.edit.holes import HoleConfig, run_holes
+    from engine.edit.removal import RemovalConfig, run_removal
+    from engine.train.config import TrainConfig
+    from engine.train.run import train
+
+    run = tmp_path / "run"
+    train(TrainConfig(scene=str(statue_scene), out=str(run), preset="tiny", device="cpu", steps=800,
+                      refine_start=50, refine_stop=150))
+    effects = run_removal(RemovalConfig(run=str(run), object="statue", device="cpu"))["effects"]
+    assert effects["shadow"] is not None and effects["views_scored"] >= 5, effects
+    assert effects["recall"] >= 0.6 and effects["precision"] >= 0.5, effects
+    holes = run_holes(HoleConfig(run=str(run), device="cpu"))
+    assert holes["mean_iou_vs_truth"] >= 0.6, holes

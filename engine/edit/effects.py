@@ -33,7 +33,7 @@ import numpy as np
 import torch
 
 from engine.base.knn import knn
-from engine.edit.plane_grid import PlaneFrame, PlaneGrid, Site
+from engine.edit.plane_grid import PlaneFrame, PlaneGrid, Site, surface_spacing
 from engine.formats.cameras import Camera, backproject
 from engine.formats.splat_ply import SH_C0
 from engine.io.gaussians import Gaussians
@@ -132,22 +132,25 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     # base is seen (by the views the object did not hide it from), and left unlit it showed as a dark rim
     # where the object stood (statue: 30.8 dB outside the hole without the margin, 29.2 with two cells).
     # What views saw under an overhang is relit like any other shadow.
-    footprint = grid.raster(frame.flat(obj[frame.height(obj) < np.percentile(frame.height(obj), 2) + 0.1 * size]))
+    footprint = grid.raster(frame.flat(obj[frame.height(obj) < np.percentile(frame.height(obj), 2) + 0.1 * size]),
+                            site.spacing)
 
     def around(points: np.ndarray, below: float) -> np.ndarray:
         return site.near_plane(points, below) & ~grid.cells(footprint, frame.flat(points))
 
-    receivers = around(samples.points, config.band_below)  # rendered depth of a fuzzy surface lies low
-    evidence: dict = {"receivers": int(receivers.sum())}
+    below = site.band_below(means, config.band_below)
+    receivers = around(samples.points, below)  # rendered depth of a fuzzy surface lies low
+    evidence: dict = {"receivers": int(receivers.sum()), "band_below": below}
     if receivers.sum() < 200:
         return ShadowSearch(None, "too few views of the support around the object", evidence)
     rng = np.random.default_rng(0)
     pick = rng.choice(np.flatnonzero(receivers), min(int(receivers.sum()), 20_000), replace=False)
     points, log_y = samples.points[pick], np.log(samples.colors[pick] @ LUMA + 1e-3)
     obj_sample = obj[rng.choice(len(obj), min(len(obj), 6000), replace=False)]
+    apart = surface_spacing(obj_sample)
 
     def covered(el: float, az: float) -> float:
-        return _missing_light(grid.shadowed(frame, frame.light(el, az), obj_sample, points), log_y,
+        return _missing_light(grid.shadowed(frame, frame.light(el, az), obj_sample, points, apart), log_y,
                               config.min_contrast)
 
     coarse = [(el, az) for el in np.arange(15.0, 86.0, 5.0) for az in np.arange(0.0, 360.0, 6.0)]
@@ -156,18 +159,19 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
             if 10.0 <= best[0] + de <= 89.0]
     best = max(fine, key=lambda d: covered(*d))
     light = frame.light(*best)
-    inside = grid.shadowed(frame, light, obj, points)
+    inside = grid.shadowed(frame, light, obj, points, site.spacing)
     evidence.update(light_elevation_deg=float(best[0]), light_azimuth_deg=float(best[1] % 360),
                     samples_in_shadow=int(inside.sum()))
     if inside.sum() < 20 or (~inside).sum() < 20:
         return ShadowSearch(None, "the best candidate shadow holds too few samples", evidence)
     score = float(np.median(log_y[~inside]) - np.median(log_y[inside]))
-    chance = _chance_contrast(grid, frame, best, obj_sample, points, log_y)
+    chance = _chance_contrast(grid, frame, best, obj_sample, points, log_y, apart)
     evidence.update(contrast=score, chance_contrast=chance)
     if not score - chance >= config.min_contrast:
         return ShadowSearch(None, "no candidate darker than chance by min_contrast", evidence)
-    cast = cv2.dilate(grid.raster(frame.cast(obj, light)).astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
-    shadowed = around(means, config.band_below)
+    cast = grid.raster(frame.cast(obj, light), site.spacing)
+    cast = cv2.dilate(cast.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
+    shadowed = around(means, below)
     shadowed[shadowed] = grid.cells(cast, frame.cast(means[shadowed], light))
     dark = inside & (np.median(log_y[~inside]) - log_y > config.min_contrast)
     lit_edge = ~inside & grid.cells(cv2.dilate(cast.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0,
@@ -181,7 +185,7 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
 
 
 def _chance_contrast(grid: PlaneGrid, frame: PlaneFrame, light: tuple[float, float], obj: np.ndarray,
-                     points: np.ndarray, log_y: np.ndarray) -> float:
+                     points: np.ndarray, log_y: np.ndarray, spacing: float) -> float:
     """What a footprint of the shadow's shape scores by chance here: the median contrast, plus two median
     deviations, over lights at the shadow's elevation from azimuths at least 90 degrees away (nearer ones
     overlap the shadow itself). A coarse two-tone texture lets some footprint sit on its dark patches
@@ -189,7 +193,7 @@ def _chance_contrast(grid: PlaneGrid, frame: PlaneFrame, light: tuple[float, flo
     stands out (0.36-0.46 on the generated scenes)."""
     values = []
     for az in np.arange(light[1] + 90.0, light[1] + 271.0, 6.0):
-        inside = grid.shadowed(frame, frame.light(light[0], az), obj, points)
+        inside = grid.shadowed(frame, frame.light(light[0], az), obj, points, spacing)
         if inside.sum() >= 20 and (~inside).sum() >= 20:
             values.append(np.median(log_y[~inside]) - np.median(log_y[inside]))
     if not values:

@@ -239,8 +239,10 @@ def _rerendered(run: TrainedRun, gaussians, after: list, device) -> list:
 def _write_effects(out: EffectsLayout, scene, gaussians, effects: _Effects, regions: list[np.ndarray],
                    after: list, device) -> dict:
     """removed/effects: each view's effect mask (the relit shadow and darkening), effects.json (with what the
-    shadow search weighed) and a contact sheet (an empty mask per view where nothing was found, so later
-    stages need not ask)."""
+    shadow search weighed, and recall and precision over every view the scene has exact effects for: the
+    masks are a 3D estimate drawn into each view, and the truth comes from gt/, which nothing here reads;
+    the benchmark's scenes have it for their test views only) and a contact sheet (an empty mask per view
+    where nothing was found, so later stages need not ask)."""
     weights = effects.weights()
     recall, precision, sheet = [], [], []
     out.root.mkdir()
@@ -249,7 +251,7 @@ def _write_effects(out: EffectsLayout, scene, gaussians, effects: _Effects, regi
         mask = (effect_mask(gaussians, weights, camera, device) if weights is not None
                 else np.zeros((camera.height, camera.width), dtype=bool))
         write_png(out.mask(camera.name), mask.astype(np.uint8) * 255)
-        if i in scene.effects and i in scene.test:
+        if i in scene.effects:
             estimate, truth = mask & ~dilate(regions[i], 1), scene.effects[i]
             both = int((estimate & truth).sum())
             if truth.sum():
