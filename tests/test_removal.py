@@ -69,6 +69,12 @@ def test_holes_follow_the_scenes_true_holes(tiny_run: Path, removed, tmp_path: P
     assert report["views_scored"] == 8
     assert report["mean_iou_vs_truth"] > 0.15
     assert 0.05 < report["hole_to_region"] < 0.9  # smaller than the object, as 3DGIC's masks are
+    assert report["mean_unseen_iou_vs_truth"] == report["mean_iou_vs_truth"]  # nothing else marked by default
+    wider = run_holes(HoleConfig(run=str(tiny_run), removed=str(out), out=str(tmp_path / "holes_st"), device="cpu",
+                                 see_through=True))
+    views, more = report["views"], wider["views"]
+    assert [v["hole_px"] + v["see_through_px"] for v in views] == [v["hole_px"] for v in more]
+    assert wider["mean_unseen_iou_vs_truth"] == report["mean_iou_vs_truth"]
 
 
 def test_unknown_object_lists_the_objects_present(tiny_run: Path, tmp_path: Path, capsys):
