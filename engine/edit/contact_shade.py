@@ -60,7 +60,7 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     frame, grid = site.frame, site.grid
     grow = max(1, round(config.contact_reach * site.radius / grid.cell))
     means = remaining["means"].numpy()
-    min_contrast, band_below = config.min_contrast, site.band_below(means, config.band_below)
+    min_contrast, band_below = config.min_contrast, config.band_below
     points, colors = shown.points, shown.colors
     above = grid.raster(frame.flat(obj), site.spacing)
     zone = dilate(above, grow)
@@ -77,7 +77,7 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     gain = np.exp(weight[..., None] * np.nan_to_num(reference - local))
     gain = np.clip(cv2.blur(gain.astype(np.float32), (3, 3)), 1.0, most)
     weight = cv2.blur(weight.astype(np.float32), (3, 3))
-    shaded = site.near_plane(means, band_below)
+    shaded = site.near_plane(means, band_below, site.reach_up(remaining))
     shaded[shaded] = grid.cells(weight, frame.flat(means[shaded])) > 0
     flat = frame.flat(means[shaded])
     return ContactShade(shaded=shaded, gains=grid.cells(gain, flat), weight=grid.cells(weight, flat),

@@ -13,9 +13,9 @@ shadow scales every albedo under it by the same factor, so the texture it darken
    coarse then fine, wins if its median log-luminance contrast beats what lights 90+ degrees away score by
    chance by `min_contrast`; else no shadow, nothing changes (effects.json's `search` says which test
    turned it down).
-3. The shadowed Gaussians: the remaining ones inside that cast footprint and within a band around the plane
-   (3DGS builds a surface out of a layer of Gaussians, some well below it), except those where the object
-   touched its support (no view saw them: that is the hole's business).
+3. The shadowed Gaussians: the remaining ones inside that cast footprint and within a band around the plane,
+   or reaching into it from below (3DGS builds a surface out of a layer of Gaussians, some well below it), except
+   those where the object touched its support (no view saw them: that is the hole's business).
 4. Relit: multiplied, colour and view-dependent terms alike, by the lit/shadow ratio of the views' samples
    per channel, each Gaussian by the share of its nearest samples that are dark.
 
@@ -135,12 +135,11 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     footprint = grid.raster(frame.flat(obj[frame.height(obj) < np.percentile(frame.height(obj), 2) + 0.1 * size]),
                             site.spacing)
 
-    def around(points: np.ndarray, below: float) -> np.ndarray:
-        return site.near_plane(points, below) & ~grid.cells(footprint, frame.flat(points))
+    def around(points: np.ndarray, below: float, extent: np.ndarray | None = None) -> np.ndarray:
+        return site.near_plane(points, below, extent) & ~grid.cells(footprint, frame.flat(points))
 
-    below = site.band_below(means, config.band_below)
-    receivers = around(samples.points, below)  # rendered depth of a fuzzy surface lies low
-    evidence: dict = {"receivers": int(receivers.sum()), "band_below": below}
+    receivers = around(samples.points, config.band_below)  # rendered depth of a fuzzy surface lies low
+    evidence: dict = {"receivers": int(receivers.sum())}
     if receivers.sum() < 200:
         return ShadowSearch(None, "too few views of the support around the object", evidence)
     rng = np.random.default_rng(0)
@@ -171,7 +170,7 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
         return ShadowSearch(None, "no candidate darker than chance by min_contrast", evidence)
     cast = grid.raster(frame.cast(obj, light), site.spacing)
     cast = cv2.dilate(cast.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
-    shadowed = around(means, below)
+    shadowed = around(means, config.band_below, site.reach_up(remaining))
     shadowed[shadowed] = grid.cells(cast, frame.cast(means[shadowed], light))
     dark = inside & (np.median(log_y[~inside]) - log_y > config.min_contrast)
     lit_edge = ~inside & grid.cells(cv2.dilate(cast.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0,

@@ -11,6 +11,7 @@ import numpy as np
 import torch
 
 from engine.base.knn import knn_distances
+from engine.render.rasterize_reference import quat_scale_to_covar
 
 
 @dataclass
@@ -126,19 +127,19 @@ class Site:
         return cls(frame=frame, size=size, centre=centre, radius=radius, reach=reach, grid=grid,
                    spacing=surface_spacing(obj))
 
-    def band_below(self, means: np.ndarray, least: float) -> float:
-        """How far below the plane (x the object's height) the support's Gaussians reach around the object: the
-        10th percentile of the depths of those within half the object's height of the plane, at least `least`.
-        A well-trained surface is a few mm thick and `least` holds; a few views trained for a few hundred steps
-        spread it over a third of the object's height (tiny CPU statue: a third of the opacity that draws the
-        shadow lay below 0.15, effect recall 0.2-0.5)."""
-        h = self.frame.height(means) / max(self.size, 1e-9)
-        across = np.linalg.norm(self.frame.flat(means) - self.centre, axis=1)
-        ring = (across > self.radius) & (across < self.reach) & (np.abs(h) < 0.5)
-        return max(least, float(-np.percentile(h[ring], 10))) if ring.sum() >= 50 else least
-
-    def near_plane(self, points: np.ndarray, below: float) -> np.ndarray:
-        """(N,) bool: within reach across the plane, from `below` x the object's height under it to 5% above."""
+    def near_plane(self, points: np.ndarray, below: float, extent: np.ndarray | None = None) -> np.ndarray:
+        """(N,) bool: within reach across the plane, from `below` x the object's height under it to 5% above;
+        with `extent` (N,), how far each point's Gaussian reaches up (2 sigma along the normal), a Gaussian
+        below the band counts when it reaches into it: a few views trained for a few hundred steps draw the
+        support with large Gaussians centred well under it (tiny CPU statue: 23% of the opacity drawing the
+        true shadow lay below the band, effect recall 0.41 on one seed, 0.67 with their extent)."""
         h, across = self.frame.height(points), self.frame.flat(points)
-        return ((np.linalg.norm(across - self.centre, axis=1) < self.reach) & (h > -below * self.size)
+        top = h if extent is None else h + extent
+        return ((np.linalg.norm(across - self.centre, axis=1) < self.reach) & (top > -below * self.size)
                 & (h < 0.05 * self.size))
+
+    def reach_up(self, gaussians) -> np.ndarray:
+        """(N,) how far each Gaussian reaches along the plane's normal: 2 sigma (its covariance along n)."""
+        covar = quat_scale_to_covar(gaussians["quats"], torch.exp(gaussians["scales"])).double().numpy()
+        n = self.frame.n
+        return 2.0 * np.sqrt(np.maximum(np.einsum("i,nij,j->n", n, covar, n), 0.0))
