@@ -59,7 +59,6 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     site = Site.of(obj, plane)
     frame, grid = site.frame, site.grid
     grow = max(1, round(config.contact_reach * site.radius / grid.cell))
-    means = remaining["means"].numpy()
     min_contrast, band_below = config.min_contrast, config.band_below
     points, colors = shown.points, shown.colors
     above = grid.raster(frame.flat(obj), site.spacing)
@@ -77,6 +76,7 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     gain = np.exp(weight[..., None] * np.nan_to_num(reference - local))
     gain = np.clip(cv2.blur(gain.astype(np.float32), (3, 3)), 1.0, most)
     weight = cv2.blur(weight.astype(np.float32), (3, 3))
+    means = remaining["means"].numpy()
     shaded = site.near_plane(means, band_below, site.reach_up(remaining))
     shaded[shaded] = grid.cells(weight, frame.flat(means[shaded])) > 0
     flat = frame.flat(means[shaded])

@@ -116,13 +116,14 @@ def run_holes(config: HoleConfig) -> dict:
             unseen = unseen_mask(camera, region, background, train_cameras, seen_surfaces, config.rel_tol,
                                  occluders, near) | (region & ~np.isfinite(background))
             see_through = region & (background < rendered)  # rays the plane stopped
-            hole = dilate(unseen | (see_through if config.see_through else False), config.dilate)
+            unseen_hole = dilate(unseen, config.dilate)
+            hole = unseen_hole | dilate(see_through, config.dilate) if config.see_through else unseen_hole
             write_png(tmp.mask(camera.name), hole.astype(np.uint8) * 255)
             record = {"view": camera.name, "region_px": int(region.sum()), "hole_px": int(hole.sum()),
                       "see_through_px": int((see_through & ~unseen).sum())}
             if i in scene.holes:
                 record["iou_vs_truth"] = iou(hole, scene.holes[i])
-                record["unseen_iou_vs_truth"] = iou(dilate(unseen, config.dilate), scene.holes[i])
+                record["unseen_iou_vs_truth"] = iou(unseen_hole, scene.holes[i])
             views.append(record)
             if len(sheet) < 6 and i in scene.test:
                 removed_rgb = read_png(removed.images / camera.name)
