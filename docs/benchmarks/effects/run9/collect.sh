@@ -1,8 +1,9 @@
 # on the device: wait up to $1 s for the runner, then pack every finished record into $OUT: the JSON records and
 # tables in one file with our hole and effect masks, each scene's sheets and its methods' picture at half size in its
 # own file (a call returns files of at most 16 MiB)
+# ($RUNNER: the folder whose runner.sh to start and wait for, run9 unless given; run10 spreads it over GPUs)
 B=/tmp/b; end=$(( $(date +%s) + $1 ))
-while pgrep -f "run9/[r]unner.sh" > /dev/null && [ $(date +%s) -lt $end ]; do sleep 10; done
+while pgrep -f "${RUNNER:-run9}/[r]unner.sh" > /dev/null && [ $(date +%s) -lt $end ]; do sleep 10; done
 cat $B/runner*.log; export PYTHONPATH=/tmp/site:. SPLATFILL_ENGINE_PYTHON=$(command -v python3)
 cd $B/code && python3 scripts/benchmark.py --scenes $(ls -d $B/scenes/*/ 2>/dev/null) --methods init reference --inpainters ${INPAINTERS:-exemplar} \
   --seeds 0 --out $B/out --perceptual l1 --report-only > $B/report.log 2>&1; tail -2 $B/report.log

@@ -1,0 +1,26 @@
+# the jobs of the device runners (run9/runner.sh, run10/runner.sh), sourced by them: one scene's base run (train,
+# remove, holes, each timed into the benchmark's stage_times.json so scripts/benchmark.py resumes from them) and its
+# completions (Init and Ref with the inpainters in $INPAINTERS, 10k steps); a worker's $GPU, where set, tags its lines
+export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3)
+B=/tmp/b; W=$B/out/work
+stage() {  # key, done path, times file, engine args...
+  local key=$1 done=$2 times=$3 name=$(basename $(dirname $(dirname $3))); shift 3
+  [ -e $done ] && return 0
+  local t0=$(date +%s.%N)
+  python3 -m engine "$@" > $B/log_${name}_$key.txt 2>&1 || { echo "$(date +%T) FAILED $name $key"; return 1; }
+  python3 -c "import json,sys,os; p=sys.argv[1]; d=json.load(open(p)) if os.path.exists(p) else {}; d[sys.argv[2]]=round($(date +%s.%N)-$t0,1); json.dump(d,open(p,'w'),indent=1)" $times $key
+  echo "$(date +%T) ${GPU:+gpu$GPU }$name $key done"
+}
+base() {
+  local s=$1 R=$W/$1/seed0/run T=$W/$1/seed0/stage_times.json; mkdir -p $W/$s/seed0
+  local obj=$(python3 -c "import json; from engine.formats.layout import SceneLayout as L; print([o['name'] for o in json.load(open(L('$B/scenes/$s').objects_json)) if o.get('target')][0])")
+  stage train $R/point_cloud.ply $T train --scene $B/scenes/$s --out $R --seed 0 --preset default --device cuda &&
+  stage remove $R/removed $T remove --run $R --object $obj --device cuda &&
+  stage holes $R/holes $T holes --run $R --device cuda
+  touch $W/$s/.base
+}
+complete() {
+  python3 scripts/benchmark.py --scenes $B/scenes/$1 --methods init reference --inpainters ${INPAINTERS:-exemplar} --seeds 0 \
+    --out $B/out --complete-steps 10000 --perceptual l1 --device cuda > $B/bench_$1.log 2>&1
+  echo "$(date +%T) ${GPU:+gpu$GPU }$1 completions done: $(grep -c '\] ' $B/bench_$1.log) cells"; touch $W/$1/.complete
+}
