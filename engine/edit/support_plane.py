@@ -24,11 +24,9 @@ from engine.formats.checks import read_json
 from engine.formats.layout import RemovedLayout
 from engine.io.gaussians import Gaussians
 from engine.io.masks import dilate
-from engine.io.planes import support_planes
+from engine.io.planes import fit_plane, level_normal, support_planes
 
 RING_PX = (3, 9)  # the band around the object's region whose surfaces may be its support (its edge is blurred)
-MAX_POINTS = 20_000
-MIN_INLIER_SHARE = 0.3
 HORIZONTAL_SHARE = 0.1  # a level plane needs fewer: cameras' up rules out walls and slanted clutter
 
 
@@ -37,27 +35,6 @@ def ring_points(camera: Camera, region: np.ndarray, depth: np.ndarray) -> tuple[
     band = dilate(region, RING_PX[1]) & ~dilate(region, RING_PX[0]) & np.isfinite(depth)
     u, v = pixel_grid(camera)
     return backproject(camera, u[band], v[band], depth[band]), depth[band]
-
-
-def fit_plane(points: np.ndarray, tol: float, seed: int = 0, tries: int = 300) -> tuple[np.ndarray, float] | None:
-    """RANSAC plane (unit normal n, offset d with n.p + d = 0) within `tol` of most `points`, or None."""
-    if len(points) < 50:
-        return None
-    rng = np.random.default_rng(seed)
-    if len(points) > MAX_POINTS:
-        points = points[rng.choice(len(points), MAX_POINTS, replace=False)]
-    best, best_count = None, 0
-    for _ in range(tries):
-        a, b, c = points[rng.choice(len(points), 3, replace=False)]
-        normal = np.cross(b - a, c - a)
-        norm = np.linalg.norm(normal)
-        if norm < 1e-12:
-            continue
-        normal /= norm
-        count = int((np.abs(points @ normal - normal @ a) < tol).sum())
-        if count > best_count:
-            best, best_count = (normal, float(-normal @ a)), count
-    return best if best_count >= MIN_INLIER_SHARE * len(points) else None
 
 
 def support_plane(cameras: list[Camera], regions: list[np.ndarray], depths: list[np.ndarray], rel_tol: float,
@@ -129,9 +106,10 @@ def object_support(means: np.ndarray, obj: np.ndarray, up: np.ndarray) -> tuple[
     ring = means[(across > radius) & (across < radius + size)]
     if len(ring) < 50:
         return None
-    low = np.percentile(heights, 25)
-    planes = [(n, d) for n, d in support_planes(ring, up, tol=0.01 * max(size, 1e-6), share=0.05, most=4)
-              if -d < low]
+    tol = 0.01 * max(size, 1e-6)
+    normal = level_normal(means, up, tol)  # the scene's level, from all of it: a ring's own tilts through layers
+    low = np.percentile(obj @ normal, 25)
+    planes = [(n, d) for n, d in support_planes(ring, up, tol, share=0.05, most=4, normal=normal) if -d < low]
     if not planes:
         return None
     return max(planes, key=lambda plane: -plane[1])

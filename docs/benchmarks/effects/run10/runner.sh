@@ -12,13 +12,15 @@ worker() {
     for s in "$@"; do [ -e $B/scenes/$s/.ready ] && claim base_$s && { next="base $s"; break; }; done
     [ -z "$next" ] && for s in $COMPLETE; do [ -e $W/$s/.base ] && claim complete_$s && { next="complete $s"; break; }; done
     if [ -z "$next" ]; then  # finished when every scene's base run (and, where asked, its completions) is claimed and done
-      n=0; for s in "$@"; do { [ -e $W/$s/.complete ] || { [ -e $W/$s/.base ] && [[ " $COMPLETE " != *" $s "* ]]; }; } && n=$((n+1)); done
+      n=0; for s in "$@"; do { [ -e $W/$s/.complete ] || [ -e $W/$s/.failed ] || { [ -e $W/$s/.base ] && [[ " $COMPLETE " != *" $s "* ]]; }; } && n=$((n+1)); done
       [ $n = $# ] && break; sleep 5; continue
     fi
     $next
   done
   echo "$(date +%T) gpu$GPU done"
 }
+# gsplat's CUDA extension is built once, before the workers: two first uses at once broke each other's build
+python3 -c "from engine.render.rasterize import gsplat_rasterization as g; g()" || exit 1
 gpus=$(nvidia-smi -L | wc -l)
 for g in $(seq 0 $((gpus - 1))); do worker $g "$@" > $B/runner_gpu$g.log 2>&1 & done
 wait

@@ -16,8 +16,7 @@ base() {
   local obj=$(python3 -c "import json; from engine.formats.layout import SceneLayout as L; print([o['name'] for o in json.load(open(L('$B/scenes/$s').objects_json)) if o.get('target')][0])")
   stage train $R/point_cloud.ply $T train --scene $B/scenes/$s --out $R --seed 0 --preset default --device cuda &&
   stage remove $R/removed $T remove --run $R --object $obj --device cuda &&
-  stage holes $R/holes $T holes --run $R --device cuda
-  touch $W/$s/.base
+  stage holes $R/holes $T holes --run $R --device cuda && touch $W/$s/.base || touch $W/$s/.failed
 }
 complete() {
   python3 scripts/benchmark.py --scenes $B/scenes/$1 --methods init reference --inpainters ${INPAINTERS:-exemplar} --seeds 0 \
