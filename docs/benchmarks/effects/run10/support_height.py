@@ -30,7 +30,7 @@ for path in map(Path, sys.argv[2:]):
     under = np.concatenate([backproject(scene.cameras[i], *[g[scene.holes[i]] for g in pixel_grid(scene.cameras[i])],
                                         scene.gt_depths[i][scene.holes[i]]) for i in sorted(scene.gt_depths)])
     height = float(np.median(under @ up))
-    offset = (under @ tn + td).mean() * 1000
+    offset = float(np.median(under @ tn + td)) * 1000
     print(f"{path.name}: surface under the object {height:.4f}; {offset:+.2f} mm above the trained plane"
           f" ({np.degrees(np.arccos(min(1.0, abs(tn @ up)))):.2f} deg from the cameras' up)", flush=True)
     rest, obj = [], []
