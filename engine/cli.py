@@ -94,7 +94,8 @@ def _holes(args: argparse.Namespace) -> None:
     from engine.train.config import config_from_args
 
     report = run_holes(config_from_args(args, HoleConfig))
-    print(f"hole masks written; mean IoU against the scene's holes/: {report['mean_iou_vs_truth']}", file=sys.stderr)
+    print(f"hole masks written; mean IoU against the scene's holes/: {report['mean_unseen_iou_vs_truth']} (the unseen "
+          f"part), {report['mean_iou_vs_truth']} (the masks, see-through pixels included)", file=sys.stderr)
 
 
 def _inpaint(args: argparse.Namespace) -> None:

@@ -186,7 +186,7 @@ class SPLATFILL_OT_hole_masks(EngineOperator, bpy.types.Operator):
 
     def finish(self, context, records):
         self._collection["splatfill_holes"] = str(self._out)
-        iou = done_record(records, "holes").get("mean_iou_vs_truth")
+        iou = done_record(records, "holes").get("mean_unseen_iou_vs_truth")
         return f"hole masks in {self._out}" + (f" (IoU against the scene's holes {iou:.2f})" if iou else "")
 
 

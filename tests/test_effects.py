@@ -300,4 +300,4 @@ def test_a_tiny_statue_run_finds_its_shadow_and_its_holes(statue_scene, tmp_path
     assert effects["shadow"] is not None and effects["views_scored"] >= 5, effects
     assert effects["recall"] >= 0.6 and effects["precision"] >= 0.5, effects
     holes = run_holes(HoleConfig(run=str(run), device="cpu"))
-    assert holes["mean_iou_vs_truth"] >= 0.6, holes
+    assert holes["mean_unseen_iou_vs_truth"] >= 0.6, holes
