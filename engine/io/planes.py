@@ -81,12 +81,13 @@ def support_planes(points: np.ndarray, up: np.ndarray, tol: float, share: float,
         k = int(np.argmax(within))
         if within[k] < need:
             break
-        centre = float(np.median(heights[left & (np.abs(heights - steps[k]) < tol)]))
+        seed = left & (np.abs(heights - steps[k]) < tol)
+        centre = float(np.median(heights[seed]))
         on = left & (np.abs(heights - centre) < tol)
         held = points[on]
         spread = np.median(np.linalg.norm(held - held.mean(0), axis=1))
         if (on.sum() >= need and spread >= min_radius
                 and not any(abs(centre + d) < 2 * tol for _, d in planes)):
             planes.append((normal, -centre))
-        left &= ~(on | (np.abs(heights - steps[k]) < tol))
+        left &= ~(on | seed)
     return planes
