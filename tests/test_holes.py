@@ -154,3 +154,19 @@ def test_the_support_is_the_layer_the_object_stands_on_not_a_tilt_through_the_la
     up = np.array([0.0, 0.0, 1.0])
     normal, offset = object_support(np.concatenate([table, mat, tiles]), toy, up)
     assert normal @ up > np.cos(np.radians(0.2)) and abs(-offset - 0.0075) < 0.0005, (normal, offset)
+
+
+def test_see_through_marks_only_rays_that_meet_the_plane_under_the_object():
+    """Camera 0's object region, stopped at the wall (the plane): from cameras at x = -0.1 and 0.1 the wall
+    behind the square is hidden only for |X| <= 0.4, so that part is under the object and the strips beyond
+    (wall that a view beside the object saw, like ground past a slab's edge) are not marked."""
+    from engine.edit.holes import _under_object
+
+    cameras = [camera_at(x) for x in (-0.1, 0.0, 0.1)]
+    regions = [depth_seen_from(c, True)[1] for c in cameras]
+    stopped, depth = regions[1], np.full((H, W), WALL)
+    under = _under_object(cameras[1], stopped, depth, cameras, regions)
+    u, _ = pixel_grid(cameras[1])
+    wall_x = np.abs((u - cameras[1].cx) / F * WALL)
+    assert under[stopped & (wall_x < 0.37)].all() and not under[stopped & (wall_x > 0.43)].any()
+    assert (stopped & (wall_x > 0.43)).any() and not under[~stopped].any()

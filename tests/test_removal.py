@@ -13,9 +13,10 @@ import torch
 from engine.base.errors import InputError
 from engine.cli import main
 from engine.edit.holes import HoleConfig, run_holes
-from engine.edit.removal import RemovalConfig, inside_visual_hull, run_removal
+from engine.edit.removal import RemovalConfig, run_removal
 from engine.formats.cameras import Camera
 from engine.io.ply_io import load_ply
+from engine.io.visibility import inside_visual_hull
 from engine.train.trained_run import load_run
 
 

@@ -48,13 +48,14 @@ from engine.edit.effects import (
     relight,
 )
 from engine.edit.support_plane import object_core, object_support
-from engine.formats.cameras import Camera, mean_up, project, sample_nearest
+from engine.formats.cameras import mean_up
 from engine.formats.layout import EffectsLayout, RemovedLayout
 from engine.io.extent import inside_box
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import exr_name, write_depth, write_png
 from engine.io.masks import dilate
 from engine.io.ply_io import save_ply
+from engine.io.visibility import inside_visual_hull
 from engine.metrics.image_metrics import psnr
 from engine.pictures.preview import label, overlay
 from engine.render.render_views import render_pictures
@@ -85,21 +86,6 @@ def object_probability(identity: torch.Tensor, classifier: torch.nn.Linear, obje
         raise InputError(f"object id {object_id} is beyond the classifier's {classifier.out_features} classes")
     with torch.no_grad():
         return torch.softmax(classifier(identity.float()), dim=-1)[:, object_id]
-
-
-def inside_visual_hull(means: np.ndarray, cameras: list[Camera], masks: list[np.ndarray], min_views: int = 3,
-                       share: float = 1.0) -> np.ndarray:
-    """(N,) bool: in frame in at least `min_views` views and inside the mask in `share` of the views that
-    frame it (all of them by default)."""
-    framed = np.zeros(len(means), dtype=np.int32)
-    inside = np.zeros(len(means), dtype=np.int32)
-    for camera, mask in zip(cameras, masks, strict=True):
-        u, v, z = project(camera, means)
-        hit, in_frame = sample_nearest(mask, u, v)
-        in_frame &= z > 0
-        framed += in_frame
-        inside += in_frame & hit
-    return (framed >= min_views) & (inside >= share * framed)
 
 
 def select(run: TrainedRun, config: RemovalConfig) -> tuple[np.ndarray, dict]:

@@ -65,6 +65,21 @@ def seen_by_any(points: np.ndarray, cameras: list[Camera], depths: list[np.ndarr
     return seen
 
 
+def inside_visual_hull(means: np.ndarray, cameras: list[Camera], masks: list[np.ndarray], min_views: int = 3,
+                       share: float = 1.0) -> np.ndarray:
+    """(N,) bool: in frame in at least `min_views` views and inside the mask in `share` of the views that
+    frame it (all of them by default)."""
+    framed = np.zeros(len(means), dtype=np.int32)
+    inside = np.zeros(len(means), dtype=np.int32)
+    for camera, mask in zip(cameras, masks, strict=True):
+        u, v, z = project(camera, means)
+        hit, in_frame = sample_nearest(mask, u, v)
+        in_frame &= z > 0
+        framed += in_frame
+        inside += in_frame & hit
+    return (framed >= min_views) & (inside >= share * framed)
+
+
 def unseen_mask(camera: Camera, region: np.ndarray, background_depth: np.ndarray, cameras: list[Camera],
                 depths: list[np.ndarray], rel_tol: float = DEFAULT_REL_TOL,
                 occluders: list[np.ndarray] | None = None, near: float | None = None) -> np.ndarray:
