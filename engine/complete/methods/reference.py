@@ -1,5 +1,7 @@
-"""Ref-<inpainter>: the hole inpainted once, in one reference view, carried to every view through depth,
-then a new scene trained on it as Init does (engine.complete.reference_fill says how and why)."""
+"""Ref-<inpainter>: one fill for the hole, placed in a reference view and carried to every view through depth,
+then a new scene trained on it as Init does (engine.complete.reference_fill says how and why). The fill is the
+mean of every view's own fill carried into the reference (--consensus, the default), or the reference's own
+(--no-consensus: Ref[single], the first version)."""
 
 from __future__ import annotations
 
@@ -7,7 +9,10 @@ import json
 from pathlib import Path
 
 from engine.complete.methods.init import Init
-from engine.complete.registry import register
+from engine.complete.registry import Option, register
+
+CONSENSUS = Option("consensus", True, "ref: the fill carried is the mean of every view's own fill of each point "
+                   "(off: the reference view's own fill)")
 
 
 @register
@@ -15,7 +20,11 @@ class Reference(Init):
     name = "reference"
     label = "Ref"
     summary = "inpaint one reference view, carry its fill to every view by depth, train a new scene"
-    cells = {"reference": {}}
+    options = (*Init.options, CONSENSUS)
+    cells = {"reference": {}, "reference-single": {"consensus": False}}
+
+    def title(self, inpainter: str, options: dict) -> str:
+        return super().title(inpainter, options) + ("" if options.get("consensus", True) else "[single]")
 
     def after_scene(self, job, scene_dir: Path) -> dict | None:
         from engine.complete.reference_fill import write_reference_fill
@@ -24,6 +33,6 @@ class Reference(Init):
 
         scene = job.original.scene
         report = write_reference_fill(SceneLayout(scene_dir), scene.cameras, scene.train, job.holes, job.inpainted,
-                                      inpainted_dilation(job.inpainted))
+                                      inpainted_dilation(job.inpainted), job.options["consensus"])
         (Path(scene_dir) / "reference_fill.json").write_text(json.dumps(report, indent=1))
         return super().after_scene(job, scene_dir)

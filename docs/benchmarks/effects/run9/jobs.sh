@@ -19,7 +19,7 @@ base() {
   stage holes $R/holes $T holes --run $R --device cuda && touch $W/$s/.base || touch $W/$s/.failed
 }
 complete() {
-  python3 scripts/benchmark.py --scenes $B/scenes/$1 --methods init reference --inpainters ${INPAINTERS:-exemplar} --seeds 0 \
+  python3 scripts/benchmark.py --scenes $B/scenes/$1 --methods ${METHODS:-init reference} --inpainters ${INPAINTERS:-exemplar} --seeds 0 \
     --out $B/out --complete-steps 10000 --perceptual l1 --device cuda > $B/bench_$1.log 2>&1
   echo "$(date +%T) ${GPU:+gpu$GPU }$1 completions done: $(grep -c '\] ' $B/bench_$1.log) cells"; touch $W/$1/.complete
 }
