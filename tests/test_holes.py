@@ -170,3 +170,24 @@ def test_see_through_marks_only_rays_that_meet_the_plane_under_the_object():
     wall_x = np.abs((u - cameras[1].cx) / F * WALL)
     assert under[stopped & (wall_x < 0.37)].all() and not under[stopped & (wall_x > 0.43)].any()
     assert (stopped & (wall_x > 0.43)).any() and not under[~stopped].any()
+
+
+def test_the_support_rendered_off_its_plane_under_the_footprint_is_marked_in_front_or_beyond():
+    """The wall (z = 4) is the support and the square's footprint a disc of radius 0.25 about the z axis. A
+    removed render 5% beyond the wall, or 5% in front of it, is marked where both its point and the ray's
+    point on the wall lie in the disc; 1% off is within the tolerance; nothing outside the region is."""
+    from engine.edit.support_plane import Footprint, off_support
+
+    camera = camera_at(0.0)
+    _, region = depth_seen_from(camera, True)
+    plane = (np.array([0.0, 0.0, 1.0]), -WALL)
+    footprint = Footprint(np.array([0.0, 0.0, 2.0]), 0.25, np.array([0.0, 0.0, 1.0]))
+    u, v = pixel_grid(camera)
+    across = np.hypot(u - camera.cx, v - camera.cy) / F  # distance from the axis at depth 1
+    for depth in (1.05 * WALL, 0.95 * WALL):
+        marked = off_support(camera, region, np.full((H, W), depth), plane, footprint, tol=0.02)
+        inside = region & (across * max(depth, WALL) < 0.24)
+        outside = across * max(depth, WALL) > 0.26
+        assert marked[inside].all() and not marked[outside].any() and inside.any() and (region & outside).any()
+        assert not marked[~region].any()
+    assert not off_support(camera, region, np.full((H, W), 1.01 * WALL), plane, footprint, tol=0.02).any()

@@ -47,7 +47,7 @@ from engine.edit.effects import (
     find_shadow,
     relight,
 )
-from engine.edit.support_plane import object_core, object_support
+from engine.edit.support_plane import Footprint, object_core, object_support
 from engine.formats.cameras import mean_up
 from engine.formats.layout import EffectsLayout, RemovedLayout
 from engine.io.extent import inside_box
@@ -128,6 +128,7 @@ def run_removal(config: RemovalConfig) -> dict:
     up = mean_up(np.stack([c.R for c in scene.cameras]))
     core = object_core(gone, up)
     plane = object_support(remaining["means"].numpy(), core, up)
+    footprint = Footprint.of(core, up if plane is None else plane[0])
     # the object's region: the scene's masks, else the original's rendered labels; for a box, where
     # the removed Gaussians alone cover a pixel (renders only when the masks do not say)
     if obj is not None and scene.masks is not None:
@@ -167,6 +168,7 @@ def run_removal(config: RemovalConfig) -> dict:
                   "gaussians_before": int(len(removed)), "removed": int(removed.sum()),
                   "gaussians_after": int((~removed).sum()), "selected_by": counts,
                   "support_plane": None if plane is None else [*np.round(plane[0], 6).tolist(), round(plane[1], 6)],
+                  "footprint": footprint.report() if footprint else None,
                   "shadow": shadow.report() if shadow else None,
                   "psnr_outside_hole": float(np.mean(scores)) if scores else None,
                   "psnr_revealed": float(np.mean(revealed)) if revealed else None, "views_scored": len(scores)}

@@ -16,6 +16,8 @@ on them into objects.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import torch
 
@@ -76,6 +78,62 @@ def stop_at_plane(camera: Camera, region: np.ndarray, depth: np.ndarray, plane: 
     beyond = (z_plane > 0) & (depth[ys, xs] > z_plane * (1 + rel_tol))
     out = depth.copy()
     out[ys[beyond], xs[beyond]] = z_plane[beyond]
+    return out
+
+
+@dataclass(frozen=True)
+class Footprint:
+    """The object seen from straight above its support: a disc about its axis (`centre`, on the core's
+    median) of `radius` (95% of the core's Gaussians lie within it), along `normal`."""
+
+    centre: np.ndarray
+    radius: float
+    normal: np.ndarray
+
+    @classmethod
+    def of(cls, core: np.ndarray, normal: np.ndarray) -> Footprint | None:
+        if len(core) < 20:
+            return None
+        centre = np.median(core, axis=0)
+        footprint = cls(centre, 0.0, normal)
+        return cls(centre, float(np.percentile(footprint.across(core), 95)), normal)
+
+    def across(self, points: np.ndarray) -> np.ndarray:
+        """(N,) each point's distance from the object's axis."""
+        rel = points - self.centre
+        return np.linalg.norm(rel - np.outer(rel @ self.normal, self.normal), axis=1)
+
+    def report(self) -> dict:
+        return {"centre": np.round(self.centre, 6).tolist(), "radius": round(self.radius, 6),
+                "normal": np.round(self.normal, 6).tolist()}
+
+
+def removal_footprint(removed: RemovedLayout) -> Footprint | None:
+    """The footprint `remove` wrote to its report, if any."""
+    found = read_json(removed.report).get("footprint") if removed.report.is_file() else None
+    if not found:
+        return None
+    return Footprint(np.asarray(found["centre"]), float(found["radius"]), np.asarray(found["normal"]))
+
+
+def off_support(camera: Camera, region: np.ndarray, depth: np.ndarray, plane: tuple[np.ndarray, float],
+                footprint: Footprint, tol: float) -> np.ndarray:
+    """(H, W) bool: `region` pixels whose rendered surface (`depth`) lies off the plane by more than `tol`
+    of the plane's depth, in front or beyond, where both that surface point and the ray's point on the
+    plane lie within the object's footprint: the support under an overhang, seen only at grazing angles,
+    left as a crater or a bulge of smeared texture."""
+    normal, offset = plane
+    ys, xs = np.nonzero(region & np.isfinite(depth))
+    u, v = pixel_grid(camera)
+    unit = backproject(camera, u[ys, xs], v[ys, xs], np.ones(len(ys))) - camera.center
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z_plane = -(camera.center @ normal + offset) / (unit @ normal)
+    surface = camera.center + unit * depth[ys, xs][:, None]
+    on_plane = camera.center + unit * z_plane[:, None]
+    off = ((z_plane > 0) & (np.abs(depth[ys, xs] / z_plane - 1) > tol)
+           & (footprint.across(surface) <= footprint.radius) & (footprint.across(on_plane) <= footprint.radius))
+    out = np.zeros(region.shape, bool)
+    out[ys[off], xs[off]] = True
     return out
 
 
