@@ -261,26 +261,27 @@ def test_the_reference_is_the_fill_the_other_views_agree_with_not_the_largest_ho
 
 def test_the_consensus_fill_is_nearer_the_truth_than_any_one_views_fill():
     """Five views of a wall each fill the hole with the truth plus their own noise (independent draws of
-    an inpainter): the mean carried into the reference is closer to the truth than any view's own fill."""
+    an inpainter) and a sixth pasted black there: the median carried into the reference is closer to the
+    truth than any view's own fill, the black one left out."""
     from engine.complete.reference_fill import ViewFill, consensus_fill
 
     wall, rng, fills = 4.0, np.random.default_rng(0), {}
     hole = np.zeros((30, 40), bool)
     hole[10:20, 12:28] = True
-    for i, shift in enumerate((0.0, 0.1, -0.1, 0.2, -0.2)):
+    for i, shift in enumerate((0.0, 0.1, -0.1, 0.2, -0.2, 0.15)):
         camera = Camera(name=f"{i}.png", width=40, height=30, fx=40.0, fy=40.0, cx=20.0, cy=15.0, R=np.eye(3),
                         t=np.array([-shift, 0.0, 0.0]))
         image = wall_seen_by(camera, np.full((30, 40), wall)).astype(int)
-        image[hole] += rng.integers(-40, 41, (int(hole.sum()), 3))
+        image[hole] = 0 if i == 5 else image[hole] + rng.integers(-40, 41, (int(hole.sum()), 3))
         fills[i] = ViewFill(camera, hole, np.clip(image, 0, 255).astype(np.uint8), np.full((30, 40), wall))
     truth = wall_seen_by(fills[0].camera, np.full((30, 40), wall)).astype(float)
 
     def error(image: np.ndarray) -> float:
         return float(np.abs(image[hole] - truth[hole]).mean())
 
-    mean = consensus_fill(fills, 0)
-    assert error(mean) < 0.7 * min(error(f.image) for f in fills.values())
-    assert np.array_equal(mean[~hole], fills[0].image[~hole])
+    median = consensus_fill(fills, 0)
+    assert error(median) < 0.75 * min(error(f.image) for f in fills.values())
+    assert np.array_equal(median[~hole], fills[0].image[~hole])
 
 
 @pytest.mark.slow

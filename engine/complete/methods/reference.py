@@ -1,6 +1,6 @@
 """Ref-<inpainter>: one fill for the hole, placed in a reference view and carried to every view through depth,
 then a new scene trained on it as Init does (engine.complete.reference_fill says how and why). The fill is the
-mean of every view's own fill carried into the reference (--consensus, the default), or the reference's own
+median of every view's own fill carried into the reference (--consensus, the default), or the reference's own
 (--no-consensus: Ref[single], the first version)."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from pathlib import Path
 from engine.complete.methods.init import Init
 from engine.complete.registry import Option, register
 
-CONSENSUS = Option("consensus", True, "ref: the fill carried is the mean of every view's own fill of each point "
+CONSENSUS = Option("consensus", True, "ref: the fill carried is the median of every view's own fill of each point "
                    "(off: the reference view's own fill)")
 
 

@@ -52,7 +52,7 @@ for path in map(Path, sys.argv[2:]):
                                 ref.image)
         own.append(hole_scores(view.image, truths[i], view.hole))
         carried.append(hole_scores(out, truths[i], view.hole))
-        share.append(count / view.hole.sum())
+        share.append(int(np.sum(count)) / view.hole.sum())  # carry_fill returns the carried mask since run12
     own, carried = np.array(own).mean(0), np.array(carried).mean(0)
     print(f"{path.name} {sys.argv[1]}: reference {ref.camera.name} of {len(fills)} views; own fill m-PSNR "
           f"{own[0]:.2f} m-SSIM {own[1]:.3f}; carried {carried[0]:.2f} / {carried[1]:.3f} ({np.mean(share):.2f} "
