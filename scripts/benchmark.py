@@ -218,7 +218,8 @@ def write_results(cells: list[dict], out: Path) -> None:
 
 
 def pictures(cells: list[dict], out: Path, seed: int, views: int = 4) -> None:
-    """Per scene, the first seed's test views side by side: ground truth, then each finished method."""
+    """Per scene, the first seed's test views side by side: the object's region, its effects and the hole
+    masks (white) where the run has them, ground truth, then each finished method."""
     for scene in sorted({c["scene"] for c in cells}):
         done = [c for c in cells if c["scene"] == scene and c["seed"] == seed and c["status"] == "done"]
         if not done:
@@ -226,9 +227,13 @@ def pictures(cells: list[dict], out: Path, seed: int, views: int = 4) -> None:
         scene_dir = Path(done[0]["scene_dir"])
         folders = [(c["method"], Path(c["renders"])) for c in done]
         names = sorted(p.name for p in folders[0][1].glob("*.png"))[:views]
+        run = RunLayout(folders[0][1].parents[2])  # RUN/complete/<Name>/renders
+        masks = [(k, f) for k, f in (("region", run.removed.masks), ("effects", run.removed.effects.root),
+                                     ("hole", run.holes.root)) if f.is_dir()]
         try:
             run_engine(["compare", "--out", str(out / "pictures" / f"{scene}.png"), "--views", *names,
-                        "--columns", f"GT={SceneLayout(scene_dir).gt}", *(f"{m}={f}" for m, f in folders)])
+                        "--columns", *(f"{k}={f}" for k, f in masks), f"GT={SceneLayout(scene_dir).gt}",
+                        *(f"{m}={f}" for m, f in folders)])
         except EngineError as exc:
             print(f"no picture for {scene}: {exc}", flush=True)
 

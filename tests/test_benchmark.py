@@ -38,7 +38,8 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     chart = read_png(tmp_path / "speed_accuracy.png")  # the same items drawn by the engine
     assert chart.shape[:2] == (2 * 340, 2 * 920) and (chart != 255).any()
     picture = read_png(tmp_path / "pictures" / f"{living_scene.name}.png")
-    assert picture.shape[1] == 3 * 96  # GT, Init-fsr, FT-fsr(3)[l1] for the tiny scene's 96 px wide views
+    # region, effects, hole, GT, Init-fsr, FT-fsr(3)[l1] for the tiny scene's 96 px wide views
+    assert picture.shape[1] == 6 * 96
     times = (tmp_path / "work" / living_scene.name / "seed0" / "stage_times.json").read_text()
     second = benchmark(living_scene, tmp_path)  # resumed: finished cells and stages are not run again
     assert second.returncode == 0, second.stderr[-2000:]
