@@ -64,10 +64,10 @@ def reference_view(fills: dict[int, ViewFill]) -> int:
         for i in views:
             view = fills[i]
             if i != r:
-                out, count = carry_fill(view.camera, view.hole, view.depth, view.image, ref.camera, ref.hole,
-                                        ref.depth, ref.image)
+                out, landed = carry_fill(view.camera, view.hole, view.depth, view.image, ref.camera, ref.hole,
+                                         ref.depth, ref.image)
                 squared += float(((out.astype(np.float64) - view.image) ** 2)[view.hole].sum())
-                carried, pixels = carried + int(count.sum()), pixels + int(view.hole.sum())
+                carried, pixels = carried + int(landed.sum()), pixels + int(view.hole.sum())
         scores[r] = (squared / max(pixels, 1), carried)
     most = max(carried for _, carried in scores.values())
     return min((r for r, (_, carried) in scores.items() if carried >= most / 2), key=lambda r: scores[r][0])
@@ -175,9 +175,9 @@ def write_reference_fill(scene_dir: SceneLayout, cameras: list[Camera], train: l
         if i == r:
             continue
         path = scene_dir.images / view.camera.name
-        image, count = carry_fill(view.camera, view.hole, view.depth, read_png(path, size=view.camera.size),
-                                  ref.camera, ref.hole, ref.depth, ref.image)
+        image, landed = carry_fill(view.camera, view.hole, view.depth, read_png(path, size=view.camera.size),
+                                   ref.camera, ref.hole, ref.depth, ref.image)
         write_png(path, image)
-        carried, total = carried + int(count.sum()), total + int(view.hole.sum())
+        carried, total = carried + int(landed.sum()), total + int(view.hole.sum())
     return {"reference": ref.camera.name, "consensus": consensus, "carried_px": carried, "hole_px": total,
             "carried_share": round(carried / total, 4) if total else None}
