@@ -65,16 +65,28 @@ def removal_plane(removed: RemovedLayout) -> tuple[np.ndarray, float] | None:
     return (np.asarray(plane[:3], dtype=np.float64), float(plane[3])) if plane else None
 
 
+def plane_along_rays(camera: Camera, ys: np.ndarray, xs: np.ndarray, plane: tuple[np.ndarray, float]
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """For pixels (ys, xs): each ray's step per unit of z-depth (N, 3) and the z-depth where it meets the
+    plane (N,; inf or negative where it never does in front of the camera)."""
+    normal, offset = plane
+    u, v = pixel_grid(camera)
+    unit = backproject(camera, u[ys, xs], v[ys, xs], np.ones(len(ys))) - camera.center
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return unit, -(camera.center @ normal + offset) / (unit @ normal)
+
+
+def axis_distance(points: np.ndarray, centre: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """(N,) each point's distance from the line through `centre` along the unit `axis`."""
+    rel = points - centre
+    return np.linalg.norm(rel - np.outer(rel @ axis, axis), axis=1)
+
+
 def stop_at_plane(camera: Camera, region: np.ndarray, depth: np.ndarray, plane: tuple[np.ndarray, float],
                   rel_tol: float) -> np.ndarray:
     """`depth` with each region pixel that lies beyond the plane (by more than rel_tol) moved onto it."""
-    normal, offset = plane
-    u, v = pixel_grid(camera)
     ys, xs = np.nonzero(region)
-    unit = backproject(camera, u[ys, xs], v[ys, xs], np.ones(len(ys))) - camera.center  # z-depth 1 along each ray
-    facing = unit @ normal
-    with np.errstate(divide="ignore", invalid="ignore"):
-        z_plane = -(camera.center @ normal + offset) / facing
+    _, z_plane = plane_along_rays(camera, ys, xs, plane)
     beyond = (z_plane > 0) & (depth[ys, xs] > z_plane * (1 + rel_tol))
     out = depth.copy()
     out[ys[beyond], xs[beyond]] = z_plane[beyond]
@@ -95,13 +107,11 @@ class Footprint:
         if len(core) < 20:
             return None
         centre = np.median(core, axis=0)
-        footprint = cls(centre, 0.0, normal)
-        return cls(centre, float(np.percentile(footprint.across(core), 95)), normal)
+        return cls(centre, float(np.percentile(axis_distance(core, centre, normal), 95)), normal)
 
     def across(self, points: np.ndarray) -> np.ndarray:
         """(N,) each point's distance from the object's axis."""
-        rel = points - self.centre
-        return np.linalg.norm(rel - np.outer(rel @ self.normal, self.normal), axis=1)
+        return axis_distance(points, self.centre, self.normal)
 
     def report(self) -> dict:
         return {"centre": np.round(self.centre, 6).tolist(), "radius": round(self.radius, 6),
@@ -122,15 +132,13 @@ def off_support(camera: Camera, region: np.ndarray, depth: np.ndarray, plane: tu
     of the plane's depth, in front or beyond, where both that surface point and the ray's point on the
     plane lie within the object's footprint: the support under an overhang, seen only at grazing angles,
     left as a crater or a bulge of smeared texture."""
-    normal, offset = plane
     ys, xs = np.nonzero(region & np.isfinite(depth))
-    u, v = pixel_grid(camera)
-    unit = backproject(camera, u[ys, xs], v[ys, xs], np.ones(len(ys))) - camera.center
+    unit, z_plane = plane_along_rays(camera, ys, xs, plane)
     with np.errstate(divide="ignore", invalid="ignore"):
-        z_plane = -(camera.center @ normal + offset) / (unit @ normal)
+        off_plane = np.abs(depth[ys, xs] / z_plane - 1) > tol
     surface = camera.center + unit * depth[ys, xs][:, None]
     on_plane = camera.center + unit * z_plane[:, None]
-    off = ((z_plane > 0) & (np.abs(depth[ys, xs] / z_plane - 1) > tol)
+    off = ((z_plane > 0) & off_plane
            & (footprint.across(surface) <= footprint.radius) & (footprint.across(on_plane) <= footprint.radius))
     out = np.zeros(region.shape, bool)
     out[ys[off], xs[off]] = True
@@ -144,7 +152,7 @@ def object_core(removed: Gaussians, up: np.ndarray) -> np.ndarray:
     if len(points) < 20:
         return points[:0]
     centre = np.median(points, axis=0)
-    across = np.linalg.norm((points - centre) - np.outer((points - centre) @ up, up), axis=1)
+    across = axis_distance(points, centre, up)
     return points[across <= 3 * np.median(across)]
 
 
@@ -159,8 +167,8 @@ def object_support(means: np.ndarray, obj: np.ndarray, up: np.ndarray) -> tuple[
     heights = obj @ up
     size = float(np.percentile(heights, 98) - np.percentile(heights, 2))
     centre = np.median(obj, axis=0)
-    across = np.linalg.norm((means - centre) - np.outer((means - centre) @ up, up), axis=1)
-    radius = float(np.percentile(np.linalg.norm((obj - centre) - np.outer((obj - centre) @ up, up), axis=1), 95))
+    across = axis_distance(means, centre, up)
+    radius = float(np.percentile(axis_distance(obj, centre, up), 95))
     ring = means[(across > radius) & (across < radius + size)]
     if len(ring) < 50:
         return None
