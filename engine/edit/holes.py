@@ -43,6 +43,7 @@ from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
+from engine.edit.removal import RemovalConfig
 from engine.edit.support_plane import off_support, removal_footprint, removal_plane, stop_at_plane, support_plane
 from engine.formats.cameras import Camera, backproject, mean_up, pixel_grid
 from engine.formats.layout import HolesLayout, RemovedLayout
@@ -57,7 +58,7 @@ from engine.train.trained_run import load_run
 # depth within 1 px raised the hole IoU on three families, 2 px about the same), so one pixel per 320 of width.
 # Below 320 none: on the tiny 96x72 CPU runs one pixel took a third of the holes (IoU 0.213 -> 0.197).
 BLUR_PX_PER_WIDTH = 320
-HULL_DILATE_PX, HULL_SHARE = 2, 0.9  # the see-through test's visual hull: removal's defaults (RemovalConfig)
+HULL_DILATE_PX, HULL_SHARE = RemovalConfig.hull_dilate, RemovalConfig.hull_share  # see-through's hull: removal's
 
 
 @dataclass
