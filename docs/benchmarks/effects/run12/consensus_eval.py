@@ -13,18 +13,12 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import torch
 
-from engine.complete.reference_fill import ViewFill, carry_fill, consensus_fill, reference_view
-from engine.inpaint.registry import create
-from engine.io.image_io import read_png
-from engine.io.scene import load_scene
-from engine.metrics.image_metrics import psnr_from_mse, ssim_map
+sys.path.insert(0, str(Path(__file__).parents[1] / "run9"))
+from exact_fills import hole_scores, own_fills  # noqa: E402
 
-
-def hole_scores(image: np.ndarray, truth: np.ndarray, hole: np.ndarray) -> tuple[float, float]:
-    a, b = (torch.from_numpy(x.astype(np.float32) / 255) for x in (image, truth))
-    return psnr_from_mse(((a - b) ** 2).mean(-1)[hole].mean().item()), ssim_map(a, b)[hole].mean().item()
+from engine.complete.reference_fill import ViewFill, carry_fill, consensus_fill, reference_view  # noqa: E402
+from engine.inpaint.registry import create  # noqa: E402
 
 
 def mean_fill(fills: dict[int, ViewFill], r: int) -> np.ndarray:
@@ -43,14 +37,7 @@ def mean_fill(fills: dict[int, ViewFill], r: int) -> np.ndarray:
 
 inpainter = create(sys.argv[1])
 for path in map(Path, sys.argv[2:]):
-    scene, fills, truths = load_scene(path), {}, {}
-    for i in sorted(scene.gt_depths):
-        camera = scene.cameras[i]
-        hole = read_png(path / "holes" / camera.name, "mask", camera.size) > 0
-        if hole.sum() >= 50:
-            truths[i] = scene.gt_images[i]
-            fills[i] = ViewFill(camera, hole, inpainter.inpaint(truths[i], hole, "rgb"),
-                                inpainter.inpaint(scene.gt_depths[i].astype(np.float32), hole, "depth"))
+    fills, truths = own_fills(inpainter, path)
     r = reference_view(fills)
     references = {"single": fills[r].image, "mean": mean_fill(fills, r), "median": consensus_fill(fills, r)}
     rows = {"own": [hole_scores(v.image, truths[i], v.hole) for i, v in fills.items() if i != r]}

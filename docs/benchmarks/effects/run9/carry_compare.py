@@ -4,7 +4,7 @@ every view as the reference (CPU, the generator's exact data; carry_eval.py says
 Needs the old module beside it:
 
     git show 43d00e9:engine/complete/reference_fill.py > DIR/old_reference_fill.py
-    PYTHONPATH=.:DIR python carry_compare.py INPAINTER SCENE...
+    PYTHONPATH=.:DIR:docs/benchmarks/effects/run9 python carry_compare.py INPAINTER SCENE...
 """
 
 import sys
@@ -12,32 +12,12 @@ from pathlib import Path
 
 import numpy as np
 import old_reference_fill as old
-import torch
+from exact_fills import hole_scores, own_fills
 
 from engine.complete.reference_fill import ViewFill, carry_fill, reference_view
 from engine.inpaint.registry import create
-from engine.io.image_io import read_png
-from engine.io.scene import load_scene
-from engine.metrics.image_metrics import psnr_from_mse, ssim_map
 
 CARRIES = {"splat colours": old.carry_fill, "read back": carry_fill}
-
-
-def hole_scores(image: np.ndarray, truth: np.ndarray, hole: np.ndarray) -> tuple[float, float]:
-    a, b = (torch.from_numpy(x.astype(np.float32) / 255) for x in (image, truth))
-    return psnr_from_mse(((a - b) ** 2).mean(-1)[hole].mean().item()), ssim_map(a, b)[hole].mean().item()
-
-
-def own_fills(inpainter, path: Path) -> tuple[dict[int, ViewFill], dict[int, np.ndarray]]:
-    scene, fills, truths = load_scene(path), {}, {}
-    for i in sorted(scene.gt_depths):
-        camera = scene.cameras[i]
-        hole = read_png(path / "holes" / camera.name, "mask", camera.size) > 0
-        if hole.sum() >= 50:
-            truths[i] = scene.gt_images[i]
-            fills[i] = ViewFill(camera, hole, inpainter.inpaint(truths[i], hole, "rgb"),
-                                inpainter.inpaint(scene.gt_depths[i].astype(np.float32), hole, "depth"))
-    return fills, truths
 
 
 def carried_scores(carry, fills: dict[int, ViewFill], truths: dict[int, np.ndarray], r: int) -> np.ndarray:

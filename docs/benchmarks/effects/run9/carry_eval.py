@@ -8,7 +8,7 @@ inpainter's own and only the carry is measured. The reference is chosen by `refe
 other view is scored in its hole against gt/: PSNR and SSIM (the benchmark's m-PSNR and m-SSIM) of its own
 fill and of the carried fill.
 
-    python carry_eval.py INPAINTER SCENE...
+    PYTHONPATH=.:docs/benchmarks/effects/run9 python carry_eval.py INPAINTER SCENE...
 """
 
 import sys
@@ -16,32 +16,15 @@ import time
 from pathlib import Path
 
 import numpy as np
-import torch
+from exact_fills import hole_scores, own_fills
 
-from engine.complete.reference_fill import ViewFill, carry_fill, reference_view
+from engine.complete.reference_fill import carry_fill, reference_view
 from engine.inpaint.registry import create
-from engine.io.image_io import read_png
-from engine.io.scene import load_scene
-from engine.metrics.image_metrics import psnr_from_mse, ssim_map
-
-
-def hole_scores(image: np.ndarray, truth: np.ndarray, hole: np.ndarray) -> tuple[float, float]:
-    a, b = (torch.from_numpy(x.astype(np.float32) / 255) for x in (image, truth))
-    return psnr_from_mse(((a - b) ** 2).mean(-1)[hole].mean().item()), ssim_map(a, b)[hole].mean().item()
-
 
 inpainter = create(sys.argv[1])
 for path in map(Path, sys.argv[2:]):
-    scene, t0 = load_scene(path), time.time()
-    fills, truths = {}, {}
-    for i in sorted(scene.gt_depths):
-        camera = scene.cameras[i]
-        hole = read_png(path / "holes" / camera.name, "mask", camera.size) > 0
-        if hole.sum() < 50:
-            continue
-        truths[i] = scene.gt_images[i]
-        fills[i] = ViewFill(camera, hole, inpainter.inpaint(truths[i], hole, "rgb"),
-                            inpainter.inpaint(scene.gt_depths[i].astype(np.float32), hole, "depth"))
+    t0 = time.time()
+    fills, truths = own_fills(inpainter, path)
     t1 = time.time()
     r = reference_view(fills)
     ref, own, carried, share = fills[r], [], [], []
