@@ -15,6 +15,7 @@ from engine.cli import main
 from engine.edit.holes import HoleConfig, run_holes
 from engine.edit.removal import RemovalConfig, run_removal
 from engine.formats.cameras import Camera
+from engine.io.image_io import read_png
 from engine.io.ply_io import load_ply
 from engine.io.visibility import inside_visual_hull
 from engine.train.trained_run import load_run
@@ -76,6 +77,11 @@ def test_holes_follow_the_scenes_true_holes(tiny_run: Path, removed, tmp_path: P
     views, more = unseen["views"], report["views"]  # the default also marks what the render sees through
     assert [v["hole_px"] + v["see_through_px"] for v in views] == [v["hole_px"] for v in more]
     assert report["mean_unseen_iou_vs_truth"] == unseen["mean_iou_vs_truth"]
+    for v in more:  # the unseen part is written on its own: the see-through marks' run's equals the plain run's
+        name = v["view"]
+        written, part = (read_png(tmp_path / "holes_st" / p, "mask") > 0 for p in (name, f"unseen/{name}"))
+        assert np.array_equal(part, read_png(tmp_path / "holes" / name, "mask") > 0)
+        assert not (part & ~written).any() and written.sum() - part.sum() == v["see_through_px"]
 
 
 def test_unknown_object_lists_the_objects_present(tiny_run: Path, tmp_path: Path, capsys):

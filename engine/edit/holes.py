@@ -153,6 +153,7 @@ def run_holes(config: HoleConfig) -> dict:
             unseen_hole = dilate(unseen, config.dilate)
             hole = unseen_hole | dilate(see_through, config.dilate) if config.see_through else unseen_hole
             write_png(tmp.mask(camera.name), hole.astype(np.uint8) * 255)
+            write_png(tmp.unseen(camera.name), unseen_hole.astype(np.uint8) * 255)
             record = {"view": camera.name, "region_px": int(region.sum()), "hole_px": int(hole.sum()),
                       "see_through_px": int((see_through & ~unseen).sum())}
             if i in scene.holes:

@@ -187,6 +187,11 @@ class HolesLayout(_MaskFolder):
 
     report_name = "holes.json"
 
+    def unseen(self, view: str) -> Path:
+        """The mask's unseen part alone (what no training view saw), without the see-through marks: the
+        part the truth's holes/ score, kept so a wrong mask can be taken apart afterwards."""
+        return self.root / "unseen" / view
+
 
 @dataclass(frozen=True)
 class EffectsLayout(_MaskFolder):
