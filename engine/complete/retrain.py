@@ -1,30 +1,54 @@
-"""What the methods that train a new scene share (Init and Direct): the paper's COLMAP ablation as an option.
+"""What the methods that train a new scene share (Init and Direct): the paper's COLMAP ablation and a warm
+start as options.
 
 --recolmap: the training scene's poses and sparse points are re-estimated by COLMAP from its training
 images (engine.complete.recolmap), and the report gives how many views registered and their pose error
-against the original cameras. Torch-free at the top, like every plug-in (engine.complete.registry).
+against the original cameras.
+
+--warm: the new scene starts from what the base run already knows instead of the sparse points: the removed
+scene's Gaussians (the base run without the object) and the base run's identity classifier, and trains for a
+tenth of the base run's steps unless --steps says otherwise. Everything still trains (nothing is frozen, unlike
+FT), on the same images as the paper's from-scratch variant, so the object's region is learnt from the
+inpainted views alone; what the start saves is relearning the rest of the scene. The results name it
+(Init-<inpainter>[warm]). Torch-free at the top, like every plug-in (engine.complete.registry).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
+from engine.base.errors import InputError
 from engine.base.plugins import Needs
 from engine.complete.registry import CompletionMethod, Option
 
 RECOLMAP = Option("recolmap", False, "re-estimate poses and points from the inpainted images with pycolmap "
                   "(the paper's COLMAP ablation; init and direct)")
+WARM = Option("warm", False, "start from the removed scene's Gaussians and the base run's classifier instead of "
+              "the sparse points, for a tenth of the base run's steps unless --steps is given (init and direct)")
 
 
 class NewSceneMethod(CompletionMethod):
     """Trains a new Gaussian Grouping scene from scratch on the inpainted views, with the original run's
     settings and step count (the base class's setup)."""
 
-    options = (RECOLMAP,)
+    options = (RECOLMAP, WARM)
     needs = Needs(packages=("pycolmap (with --recolmap)",))
 
     def title(self, inpainter: str, options: dict) -> str:
-        return super().title(inpainter, options) + ("[colmap]" if options.get("recolmap") else "")
+        return (super().title(inpainter, options) + ("[colmap]" if options.get("recolmap") else "")
+                + ("[warm]" if options.get("warm") else ""))
+
+    def check(self, job) -> None:
+        if job.options.get("warm") and job.options.get("recolmap"):
+            raise InputError("--warm starts from Gaussians in the original cameras' frame, which --recolmap "
+                             "replaces: choose one")
+
+    def setup(self, job, settings):
+        if not job.options.get("warm"):
+            return settings, None
+        from engine.complete.warm_start import warm_setup
+
+        return warm_setup(job, settings)
 
     def after_scene(self, job, scene_dir: Path) -> dict | None:
         if not job.options.get("recolmap"):

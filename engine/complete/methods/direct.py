@@ -14,4 +14,4 @@ class Direct(NewSceneMethod):
     label = "Direct"
     summary = "train a new scene on input images with the object painted out (the paper's direct baseline)"
     source = "input"
-    cells = {"direct": {}}
+    cells = {"direct": {}, "direct-warm": {"warm": True}}

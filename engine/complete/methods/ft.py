@@ -1,13 +1,13 @@
 """FT-<inpainter>(3 | All): finetune the removed scene into its hole from the reference views' inpainting,
 the removed Gaussians frozen for real (engine.complete.finetune has the losses and why). With the L1
-perceptual term instead of LPIPS the name says so: FT-<inpainter>(3)[l1]."""
+perceptual term instead of LPIPS the name says so: FT-<inpainter>(3)[l1], FT-<inpainter>(3)[st-lpips]."""
 
 from __future__ import annotations
 
 from engine.base.plugins import Needs
 from engine.complete.registry import CompletionMethod, Option, register
 
-PERCEPTUAL = ("lpips", "l1")
+PERCEPTUAL = ("lpips", "st-lpips", "l1")
 
 
 @register
@@ -17,7 +17,7 @@ class Finetune(CompletionMethod):
     summary = "finetune the removed scene into the hole, its Gaussians frozen (the paper's FT)"
     options = (Option("refs", 3, "reference views: the training views with the largest holes (0 = all with a hole)"),
                Option("perceptual", "lpips", "the term on non-reference views", PERCEPTUAL))
-    needs = Needs(weights=("LPIPS backbone (--lpips-backbone; or --perceptual l1)",))
+    needs = Needs(weights=("LPIPS backbone (--lpips-backbone; or --perceptual st-lpips or l1)",))
     cells = {"ft3": {"refs": 3}, "ftall": {"refs": 0}}
 
     def title(self, inpainter: str, options: dict) -> str:

@@ -22,7 +22,7 @@ class Init(NewSceneMethod):
     name = "init"
     label = "Init"
     summary = "train a new scene from the inpainted views (the paper's Init)"
-    cells = {"init": {}, "init-colmap": {"recolmap": True}}
+    cells = {"init": {}, "init-colmap": {"recolmap": True}, "init-warm": {"warm": True}}
 
     def keep_regions(self, job) -> dict:
         from engine.inpaint.run import inpainted_dilation
