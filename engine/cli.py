@@ -133,6 +133,17 @@ def _compare(args: argparse.Namespace) -> None:
         print(f"wrote {compare_sheet(columns, args.views, Path(args.out))}", file=sys.stderr)
 
 
+def _video(args: argparse.Namespace) -> None:
+    from engine.base.progress import emit
+    from engine.pictures.video import write_mp4
+
+    frames = sorted(Path(args.frames).glob("*.png"))
+    out = Path(args.out)
+    if out.exists():
+        raise InputError(f"{out} exists: name a new file for the video")
+    emit("done", stage="video", out=str(write_mp4(frames, out, args.fps)), frames=len(frames))
+
+
 def _chart(args: argparse.Namespace) -> None:
     from engine.pictures.chart_png import chart_png
 
@@ -279,6 +290,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="PNG to write (--per-view: a new folder)")
     p.add_argument("--per-view", action="store_true", help="one labelled PNG per view into the folder --out")
     p.set_defaults(handler=_compare)
+    p = sub.add_parser("video", help="a folder of PNG frames (sorted by name) as an H.264 MP4")
+    p.add_argument("--frames", required=True)
+    p.add_argument("--out", required=True, help="new .mp4 file")
+    p.add_argument("--fps", type=int, default=24)
+    p.set_defaults(handler=_video)
     p = sub.add_parser("chart", help="draw a chart's items (the benchmark's speed_accuracy.json) as a PNG")
     p.add_argument("--spec", required=True, help="JSON with width, height and items")
     p.add_argument("--out", required=True, help="PNG to write")

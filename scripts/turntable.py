@@ -1,6 +1,7 @@
 """A before/after turntable around a removed object, rendered by the engine's rasterizer.
 
     blender -b -P scripts/turntable.py -- --run RUN --removed RUN/removed [--after PLY] [--frames 48] --out DIR
+        [--keep-frames]
     blender -b scene.blend -P scripts/turntable.py -- --run RUN --removed ... --camera Camera --out DIR
     python scripts/turntable.py --run RUN --removed RUN/removed --out DIR      # the bpy module works too
 
@@ -10,7 +11,10 @@ camera's intrinsics; `--camera` takes a Blender camera's path over the scene's f
 scenes (before: RUN/point_cloud.ply; after: the removed scene, or any .ply such as a completed run's) are
 rendered from the same cameras.json by `python -m engine render` (3DGS quality, which Blender's own
 renderers cannot give a splat), put side by side with labels (`python -m engine compare --per-view`),
-and written to DIR/frames/ as PNGs and DIR/turntable.mp4 when FFmpeg is on the PATH.
+and written as DIR/turntable.mp4 (H.264, by `python -m engine video` with the FFmpeg the engine's
+imageio-ffmpeg wheel ships; decoded again and its frames counted before it is kept). `--keep-frames` keeps the
+side-by-side PNGs (DIR/frames/) and both renders (DIR/before/, DIR/after/); by default they go once the MP4 is
+written.
 """
 
 from __future__ import annotations
@@ -18,7 +22,6 @@ from __future__ import annotations
 import argparse
 import json
 import shutil
-import subprocess
 import sys
 from pathlib import Path
 
@@ -97,16 +100,6 @@ def blender_path(camera_name: str) -> list[dict]:
     return records
 
 
-def make_video(frames: Path, out: Path, fps: int) -> Path | None:
-    ffmpeg = shutil.which("ffmpeg")
-    if ffmpeg is None:
-        return None
-    subprocess.run([ffmpeg, "-y", "-loglevel", "error", "-framerate", str(fps), "-i", str(frames / "%04d.png"),
-                    "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", str(out)],
-                   check=True)
-    return out
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--run", required=True, help="the original training run")
@@ -116,6 +109,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--frames", type=int, default=48)
     parser.add_argument("--camera", default="", help="a Blender camera of the open .blend, over its frame range")
     parser.add_argument("--fps", type=int, default=24)
+    parser.add_argument("--keep-frames", action="store_true", help="keep frames/, before/ and after/ beside the MP4")
     parser.add_argument("--device", default="auto")
     args = parser.parse_args(script_args(argv))
     run, removed, out = RunLayout(args.run), RemovedLayout(args.removed), Path(args.out)
@@ -138,11 +132,15 @@ def main(argv: list[str] | None = None) -> int:
                         "--device", args.device])
         run_engine(["compare", "--per-view", "--out", str(out / "frames"), "--views",
                     *[r["name"] for r in records], "--columns", f"before={out / 'before'}", f"after={out / 'after'}"])
-        video = make_video(out / "frames", out / "turntable.mp4", args.fps)
+        video = out / "turntable.mp4"
+        run_engine(["video", "--frames", str(out / "frames"), "--out", str(video), "--fps", str(args.fps)])
+        if not args.keep_frames:
+            for folder in ("frames", "before", "after"):
+                shutil.rmtree(out / folder)
     except (EngineError, OSError, KeyError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    print(f"frames: {out / 'frames'}  video: {video or 'none (no ffmpeg on the PATH)'}", flush=True)
+    print(f"video: {video}" + (f"  frames: {out / 'frames'}" if args.keep_frames else ""), flush=True)
     return 0
 
 

@@ -81,14 +81,19 @@ def test_remove_selected_without_a_proxy_says_what_to_select(registered):
         bpy.ops.splatfill.remove_selected()
 
 
-def test_turntable_writes_side_by_side_frames(run: Path, tmp_path: Path):
+def test_turntable_writes_side_by_side_frames_and_an_mp4_that_decodes(run: Path, tmp_path: Path):
     removed = run / "removed-turntable"
     run_engine(["remove", "--run", str(run), "--object", "plush", "--out", str(removed), "--device", "cpu"])
     env = {**os.environ, "SPLATFILL_ENGINE_PYTHON": str(ENGINE_PYTHON)}
     proc = subprocess.run([sys.executable, str(REPO / "scripts" / "turntable.py"), "--run", str(run), "--removed",
-                           str(removed), "--frames", "3", "--out", str(tmp_path / "tt"), "--device", "cpu"],
-                          capture_output=True, text=True, env=env)
+                           str(removed), "--frames", "3", "--keep-frames", "--out", str(tmp_path / "tt"), "--device",
+                           "cpu"], capture_output=True, text=True, env=env)
     assert proc.returncode == 0, proc.stderr[-2000:]
+    decode = ("import cv2, sys; c = cv2.VideoCapture(sys.argv[1]); n = 0\nwhile c.read()[0]: n += 1\n"
+              "print(n, int(c.get(cv2.CAP_PROP_FRAME_WIDTH)))")  # decoded in the engine's Python, which has OpenCV
+    counted = subprocess.run([str(ENGINE_PYTHON), "-c", decode, str(tmp_path / "tt" / "turntable.mp4")],
+                             capture_output=True, text=True, check=True).stdout.split()
+    assert counted == ["3", str(2 * 96)]  # three frames, before | after
     frames = sorted((tmp_path / "tt" / "frames").glob("*.png"))
     assert [f.name for f in frames] == ["0000.png", "0001.png", "0002.png"]
     cameras = json.loads((tmp_path / "tt" / "cameras.json").read_text())
@@ -115,7 +120,7 @@ def test_turntable_follows_a_blender_camera_path(run: Path, registered, tmp_path
     assert bpy.ops.splatfill.import_colmap(directory=str(scene_dir)) == {"FINISHED"}
     camera = bpy.data.objects["0000"]
     bpy.context.scene.frame_start = bpy.context.scene.frame_end = 1
-    removed = run / "removed-turntable"  # made by test_turntable_writes_side_by_side_frames
+    removed = run / "removed-turntable"  # made by test_turntable_writes_side_by_side_frames_and_an_mp4_that_decodes
     if not removed.exists():
         run_engine(["remove", "--run", str(run), "--object", "plush", "--out", str(removed), "--device", "cpu"])
     assert turntable.main(["turntable.py", "--run", str(run), "--removed", str(removed), "--camera", camera.name,
@@ -127,7 +132,7 @@ def test_turntable_follows_a_blender_camera_path(run: Path, registered, tmp_path
     for key in ("width", "height", "fx", "fy", "cx", "cy"):
         assert record[key] == pytest.approx(truth[key], abs=1e-3)
     assert np.allclose(record["R"], truth["R"], atol=1e-5) and np.allclose(record["t"], truth["t"], atol=1e-4)
-    assert (tmp_path / "tt" / "frames" / "0000.png").is_file()
+    assert (tmp_path / "tt" / "turntable.mp4").is_file() and not (tmp_path / "tt" / "frames").exists()
 
 
 def test_the_inpaint_and_complete_menus_list_the_engines_plugins(package, monkeypatch):
