@@ -1,6 +1,7 @@
 # the jobs of the device runners (run9/runner.sh, run10/runner.sh), sourced by them: one scene's base run (train,
 # remove, holes, each timed into the benchmark's stage_times.json so scripts/benchmark.py resumes from them) and its
-# completions (Init and Ref with the inpainters in $INPAINTERS, 10k steps); a worker's $GPU, where set, tags its lines
+# completions (Init and Ref with the inpainters in $INPAINTERS, 10k steps); a worker's $GPU, where set, tags its lines.
+# A scene named <scene>_b<N> (a link to <scene>, docs/benchmarks/budget/curve.sh) trains with --max-gaussians N.
 export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3)
 B=/tmp/b; W=$B/out/work
 stage() {  # key, done path, times file, engine args...
@@ -14,7 +15,8 @@ stage() {  # key, done path, times file, engine args...
 base() {
   local s=$1 R=$W/$1/seed0/run T=$W/$1/seed0/stage_times.json; mkdir -p $W/$s/seed0
   local obj=$(python3 -c "import json; from engine.formats.layout import SceneLayout as L; print([o['name'] for o in json.load(open(L('$B/scenes/$s').objects_json)) if o.get('target')][0])")
-  stage train $R/point_cloud.ply $T train --scene $B/scenes/$s --out $R --seed 0 --preset default --device cuda &&
+  local budget=""; [[ $s =~ _b([0-9]+)$ ]] && budget="--max-gaussians ${BASH_REMATCH[1]}"  # budget/curve.sh's names
+  stage train $R/point_cloud.ply $T train --scene $B/scenes/$s --out $R --seed 0 --preset default --device cuda $budget &&
   stage remove $R/removed $T remove --run $R --object $obj --device cuda &&
   stage holes $R/holes $T holes --run $R --device cuda && touch $W/$s/.base || touch $W/$s/.failed
 }
