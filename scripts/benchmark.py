@@ -11,6 +11,9 @@ that fails is recorded with its one-line reason and the others go on. Runs of di
 may share one --out at the same time (their work folders differ); `--report-only` then writes the
 tables from every finished cell without running anything.
 
+Cells run as Ray tasks, one GPU each (scripts/benchmark_ray.py): on this machine's GPUs, or on a Ray cluster with
+--ray-address; `--scheduler serial` (and any Python without Ray) runs them one after the other here.
+
 Writes OUT/results.json and results.csv (one row per cell), and OUT/tables.md: per scene and averaged over
 scenes, the paper's columns (mean over seeds; best in bold), with the removed-but-unfilled scene as the
 first row; OUT/stability.md and OUT/speed_accuracy.svg and .png (scripts/benchmark_report.py); OUT/pictures/
@@ -27,6 +30,7 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import os
 import shutil
 import sys
 import time
@@ -66,9 +70,13 @@ class Stages:
             return
         start = time.perf_counter()
         run_engine(args)
-        self.times[key] = round(time.perf_counter() - start, 1)
+        seconds = round(time.perf_counter() - start, 1)
         self.root.mkdir(parents=True, exist_ok=True)
-        self.times_file.write_text(json.dumps(self.times, indent=1))
+        # re-read first: under Ray, stages of one scene and seed (two inpainters) finish in other processes
+        self.times = {**(json.loads(self.times_file.read_text()) if self.times_file.is_file() else {}), key: seconds}
+        partial = self.times_file.with_suffix(f".{os.getpid()}.tmp")
+        partial.write_text(json.dumps(self.times, indent=1))
+        partial.replace(self.times_file)
 
     def train(self) -> None:
         a = self.args
@@ -80,15 +88,22 @@ class Stages:
         self.stage("train", self.run.point_cloud, ["train", "--scene", str(self.scene), "--out", run, "--seed",
                                                    str(self.seed), *options, *resume])
 
-    def prepare(self, inpainter: str, source: str) -> None:
+    def base(self) -> None:
+        """Train, remove the target and mask its holes: what every cell of this scene and seed shares."""
         device, run = ["--device", self.args.device], str(self.run.root)
         self.train()
         target = _target(self.scene)
         self.stage("remove", self.run.removed.root, ["remove", "--run", run, "--object", target, *device])
         self.stage("holes", self.run.holes.root, ["holes", "--run", run, *device])
+
+    def inpaint(self, inpainter: str, source: str) -> None:
         self.stage(_inpaint_key(inpainter, source), self.run.inpainted(inpainter, source).root,
-                   ["inpaint", "--run", run, "--inpainter", inpainter, "--source", source,
+                   ["inpaint", "--run", str(self.run.root), "--inpainter", inpainter, "--source", source,
                     "--dilate", str(self.args.dilate)])
+
+    def prepare(self, inpainter: str, source: str) -> None:
+        self.base()
+        self.inpaint(inpainter, source)
 
     def seconds(self, source: str, inpainter: str, complete: float) -> float:
         """A method's run time: the stages it needs (Init and FT: train + remove + holes + inpaint +
@@ -120,7 +135,9 @@ def _option_flags(options: dict) -> list[str]:
     return flags
 
 
-def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespace) -> dict:
+def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespace, failed: str = "") -> dict:
+    """One cell: its shared stages where not done (`failed`: the reason they failed elsewhere), then
+    `engine complete`, unless its scores.json is there already."""
     spec = benchmark_cells()[method]
     kind = get(spec.method)
     wide = {k: getattr(args, k) for k in BENCHWIDE_OPTIONS if k in {o.name for o in kind.options}}
@@ -130,6 +147,8 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
     out = stages.run.complete(name)
     if args.report_only and not out.scores_json.is_file():
         return {**cell, "status": "not run", "reason": "not finished when the report was written (--report-only)"}
+    if failed and not out.scores_json.is_file():
+        return {**cell, "status": "failed", "reason": failed}
     try:
         if not out.scores_json.is_file():
             stages.prepare(inpainter, kind.source)
@@ -241,6 +260,24 @@ def pictures(cells: list[dict], out: Path, seed: int, views: int = 4) -> None:
             print(f"no picture for {scene}: {exc}", flush=True)
 
 
+def run_matrix(matrix: list[tuple[Path, int, str, str]], args: argparse.Namespace, work: Path):
+    """(index in `matrix`, cell) as each cell finishes: one after the other here, or as Ray tasks on every
+    GPU (scripts/benchmark_ray.py; the default where Ray is installed)."""
+    if args.scheduler == "ray" and not args.report_only:
+        try:
+            import ray  # noqa: F401
+        except ImportError:
+            print("Ray is not installed here (pip install ray): the cells run one after the other", flush=True)
+        else:
+            from benchmark_ray import run_cells
+
+            sources = {m: get(benchmark_cells()[m].method).source for m in args.methods}
+            yield from run_cells(matrix, sources, work, args)
+            return
+    for index, (scene, seed, inpainter, method) in enumerate(matrix):
+        yield index, run_cell(Stages(scene, seed, work, args), method, inpainter, args)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--scenes", nargs="+")
@@ -260,6 +297,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--perceptual", default="st-lpips",
                         help="FT's perceptual term (lpips | st-lpips | l1; st-lpips's weights come with the set-up)")
     parser.add_argument("--device", default="auto")
+    parser.add_argument("--scheduler", choices=("ray", "serial"), default="ray",
+                        help="ray: cells as Ray tasks, one GPU each, on this machine's GPUs (or the cluster at "
+                             "--ray-address); serial: one after the other in this process (also where Ray is absent)")
+    parser.add_argument("--ray-address", default="", help="a running Ray cluster (default: start one here)")
     parser.add_argument("--report-only", action="store_true",
                         help="run nothing: write the tables, chart and pictures from the cells already finished "
                              "(for example after several runs of single seeds into one --out)")
@@ -273,18 +314,17 @@ def main(argv: list[str] | None = None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     matrix = [(Path(s), seed, inp, m) for s in args.scenes for seed in args.seeds for inp in args.inpainters
               for m in args.methods]
-    cells = []
-    for k, (scene, seed, inpainter, method) in enumerate(matrix, 1):
-        stages = Stages(scene, seed, out / "work", args)
-        start = time.perf_counter()
-        cell = run_cell(stages, method, inpainter, args)
-        cells.append(cell)
+    finished: dict[int, dict] = {}
+    start = time.perf_counter()
+    for k, (index, cell) in enumerate(run_matrix(matrix, args, out / "work"), 1):
+        finished[index] = cell
+        cells = [finished[i] for i in sorted(finished)]
         write_results(cells, out)
         bar = "#" * round(20 * k / len(matrix))
         detail = (f"m-PSNR {_fmt(cell['m_psnr'], 'm_psnr')} dB, {cell['seconds']} s" if cell["status"] == "done"
                   else f"{cell['status'].upper()}: {cell['reason']}")
-        print(f"[{bar:<20}] {k}/{len(matrix)} {scene.name} seed {seed} {cell['method']}: {detail} "
-              f"({time.perf_counter() - start:.0f} s here)", flush=True)
+        print(f"[{bar:<20}] {k}/{len(matrix)} {cell['scene']} seed {cell['seed']} {cell['method']}: {detail} "
+              f"({time.perf_counter() - start:.0f} s so far)", flush=True)
     try:  # the PNG once at the end: it takes an engine process
         run_engine(["chart", "--spec", str(out / "speed_accuracy.json"), "--out", str(out / "speed_accuracy.png")])
     except EngineError as exc:

@@ -1,4 +1,5 @@
-"""The benchmark matrix on the tiny scene: cells run, a failing cell is recorded, a resumed run repeats nothing."""
+"""The benchmark matrix on the tiny scene: cells run (as Ray tasks, then resumed one after the other), a failing cell
+is recorded, a resumed run repeats nothing."""
 
 from __future__ import annotations
 
@@ -41,7 +42,8 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     # region, effects, hole, GT, Init-fsr, FT-fsr(3)[l1] for the tiny scene's 96 px wide views
     assert picture.shape[1] == 6 * 96
     times = (tmp_path / "work" / living_scene.name / "seed0" / "stage_times.json").read_text()
-    second = benchmark(living_scene, tmp_path)  # resumed: finished cells and stages are not run again
+    # resumed, one after the other (the first ran as Ray tasks): finished cells and stages are not run again
+    second = benchmark(living_scene, tmp_path, "--scheduler", "serial")
     assert second.returncode == 0, second.stderr[-2000:]
     assert (tmp_path / "tables.md").read_text() == table
     assert (tmp_path / "work" / living_scene.name / "seed0" / "stage_times.json").read_text() == times

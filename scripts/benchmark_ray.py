@@ -1,0 +1,95 @@
+"""The benchmark's cells as Ray tasks: one GPU each, on this machine's GPUs or on a Ray cluster (--ray-address).
+
+Why Ray: a scene's matrix is about five full trainings, and cells of different scenes, seeds and methods are
+independent once their shared stages are done; run one after another they leave every GPU but one idle (and
+two at once on one GPU measured slower than one after the other). The dependency graph per scene and seed:
+one `base` task (train, remove, holes), then one `inpaint` task per inpainter and source, then one task per
+cell; each asks Ray for a whole GPU (a CPU where the cluster has none), and Ray sets CUDA_VISIBLE_DEVICES, so the
+engine processes a task starts see only its GPU. The tasks call the same Stages and run_cell as the serial path,
+so work on disk is skipped the same way and an interrupted run resumes; a failed stage fails its cells with its
+one-line reason, as serially. Workers find this folder and the repository through PYTHONPATH.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+from collections.abc import Iterator
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+def _stages(scene: str, seed: int, work: str, args: argparse.Namespace):
+    from benchmark import Stages
+
+    return Stages(Path(scene), seed, Path(work), args)
+
+
+def base_task(scene: str, seed: int, work: str, args: argparse.Namespace) -> str:
+    """Train, remove and holes for one scene and seed; '' or the failure's reason."""
+    from addon.engine_call import EngineError
+
+    try:
+        _stages(scene, seed, work, args).base()
+    except EngineError as exc:
+        return str(exc)
+    return ""
+
+
+def inpaint_task(failed: str, scene: str, seed: int, inpainter: str, source: str, work: str,
+                 args: argparse.Namespace) -> str:
+    from addon.engine_call import EngineError
+
+    if failed:
+        return failed
+    try:
+        _stages(scene, seed, work, args).inpaint(inpainter, source)
+    except EngineError as exc:
+        return str(exc)
+    return ""
+
+
+def cell_task(failed: str, scene: str, seed: int, inpainter: str, method: str, work: str,
+              args: argparse.Namespace) -> dict:
+    from benchmark import run_cell
+
+    return run_cell(_stages(scene, seed, work, args), method, inpainter, args, failed=failed)
+
+
+def start(address: str) -> dict:
+    """Connect to (or start) Ray with workers that import this folder; the resources each task asks for."""
+    import ray
+
+    path = os.pathsep.join(p for p in (str(REPO), str(REPO / "scripts"), os.environ.get("PYTHONPATH", "")) if p)
+    env = {"PYTHONPATH": path, **{k: os.environ[k] for k in ("SPLATFILL_ENGINE_PYTHON",) if k in os.environ}}
+    ray.init(address=address or None, runtime_env={"env_vars": env}, include_dashboard=False,
+             logging_level="ERROR", log_to_driver=False)
+    return {"num_gpus": 1} if ray.cluster_resources().get("GPU", 0) >= 1 else {"num_cpus": 1}
+
+
+def run_cells(matrix: list[tuple[Path, int, str, str]], sources: dict[str, str], work: Path,
+              args: argparse.Namespace) -> Iterator[tuple[int, dict]]:
+    """(index in `matrix`, cell record) as each cell finishes; `sources` maps a method to the inpainting it
+    reads ("removed" or "input")."""
+    import ray
+
+    resources = start(args.ray_address)
+    # no retries: a stage half done by a worker that died is not safe to start again in the same folder (the
+    # engine refuses); run the benchmark again instead, which resumes from what is on disk
+    base, inpaint, cell = (ray.remote(max_retries=0, **resources)(f) for f in (base_task, inpaint_task, cell_task))
+    bases, inpaints, pending = {}, {}, {}
+    for k, (scene, seed, inpainter, method) in enumerate(matrix):
+        key = (str(scene), seed)
+        if key not in bases:  # once per scene and seed (setdefault would start a task each time)
+            bases[key] = base.remote(*key, str(work), args)
+        step = (*key, inpainter, sources[method])
+        if step not in inpaints:
+            inpaints[step] = inpaint.remote(bases[key], *step, str(work), args)
+        pending[cell.remote(inpaints[step], *key, inpainter, method, str(work), args)] = k
+    try:
+        while pending:
+            done, _ = ray.wait(list(pending), num_returns=1)
+            yield pending.pop(done[0]), ray.get(done[0])
+    finally:
+        ray.shutdown()
