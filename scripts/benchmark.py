@@ -30,8 +30,6 @@ from __future__ import annotations
 import argparse
 import csv
 import json
-import os
-import shutil
 import sys
 import time
 from pathlib import Path
@@ -41,129 +39,18 @@ from blender_entry import add_repo_to_path, script_args  # noqa: E402
 
 add_repo_to_path()
 from benchmark_report import write_reports  # noqa: E402
+from benchmark_stages import Stages, run_cell  # noqa: E402
 
 from addon.engine_call import EngineError, run_engine  # noqa: E402
-from engine.complete.registry import benchmark_cells, get, resolve_options  # noqa: E402
+from engine.complete.registry import benchmark_cells, get  # noqa: E402
 from engine.formats.layout import RunLayout, SceneLayout  # noqa: E402
 
-BENCHWIDE_OPTIONS = ("perceptual",)  # options the benchmark sets for every method that has them
 COLUMNS = [("psnr", "PSNR", max), ("m_psnr", "m-PSNR", max), ("ssim", "SSIM", max), ("m_ssim", "m-SSIM", max),
            ("lpips", "LPIPS", min), ("m_lpips", "m-LPIPS", min),
            ("st_lpips", "ST-LPIPS", min), ("m_st_lpips", "m-ST-LPIPS", min),
            ("fid", "FID", min), ("m_fid", "m-FID", min),
            ("kid", "KID", min), ("m_kid", "m-KID", min), ("seconds", "Run time (s)", min),
            ("gaussians", "Gaussians", None)]
-
-
-class Stages:
-    """The shared stages of one scene and seed, each run once and timed; times persist in stage_times.json."""
-
-    def __init__(self, scene: Path, seed: int, work: Path, args: argparse.Namespace) -> None:
-        self.scene, self.seed, self.args = scene, seed, args
-        self.root = work / scene.name / f"seed{seed}"
-        self.run = RunLayout(self.root / "run")
-        self.times_file = self.root / "stage_times.json"
-        self.times = json.loads(self.times_file.read_text()) if self.times_file.is_file() else {}
-
-    def stage(self, key: str, done: Path, args: list[str]) -> None:
-        if done.exists():
-            return
-        start = time.perf_counter()
-        run_engine(args)
-        seconds = round(time.perf_counter() - start, 1)
-        self.root.mkdir(parents=True, exist_ok=True)
-        # re-read first: under Ray, stages of one scene and seed (two inpainters) finish in other processes
-        self.times = {**(json.loads(self.times_file.read_text()) if self.times_file.is_file() else {}), key: seconds}
-        partial = self.times_file.with_suffix(f".{os.getpid()}.tmp")
-        partial.write_text(json.dumps(self.times, indent=1))
-        partial.replace(self.times_file)
-
-    def train(self) -> None:
-        a = self.args
-        resume = ["--resume"] if self.run.config_json.is_file() else []
-        options = ["--preset", a.preset, "--device", a.device]
-        options += ["--max-gaussians", str(a.max_gaussians)] if a.max_gaussians is not None else []
-        options += ["--steps", str(a.steps)] if a.steps else []
-        run = str(self.run.root)
-        self.stage("train", self.run.point_cloud, ["train", "--scene", str(self.scene), "--out", run, "--seed",
-                                                   str(self.seed), *options, *resume])
-
-    def base(self) -> None:
-        """Train, remove the target and mask its holes: what every cell of this scene and seed shares."""
-        device, run = ["--device", self.args.device], str(self.run.root)
-        self.train()
-        target = _target(self.scene)
-        self.stage("remove", self.run.removed.root, ["remove", "--run", run, "--object", target, *device])
-        self.stage("holes", self.run.holes.root, ["holes", "--run", run, *device])
-
-    def inpaint(self, inpainter: str, source: str) -> None:
-        self.stage(_inpaint_key(inpainter, source), self.run.inpainted(inpainter, source).root,
-                   ["inpaint", "--run", str(self.run.root), "--inpainter", inpainter, "--source", source,
-                    "--dilate", str(self.args.dilate)])
-
-    def prepare(self, inpainter: str, source: str) -> None:
-        self.base()
-        self.inpaint(inpainter, source)
-
-    def seconds(self, source: str, inpainter: str, complete: float) -> float:
-        """A method's run time: the stages it needs (Init and FT: train + remove + holes + inpaint +
-        complete; methods that paint the input images: their inpainting + complete)."""
-        if source == "input":
-            return self.times.get(_inpaint_key(inpainter, source), 0) + complete
-        shared = ("train", "remove", "holes", f"inpaint-{inpainter}")
-        return sum(self.times.get(k, 0) for k in shared) + complete
-
-
-def _inpaint_key(inpainter: str, source: str) -> str:
-    return f"inpaint-{inpainter}" if source == "removed" else f"inpaint-direct-{inpainter}"
-
-
-def _target(scene: Path) -> str:
-    path = SceneLayout(scene).objects_json
-    targets = [o["name"] for o in json.loads(path.read_text()) if o.get("target")]
-    if not targets:
-        raise EngineError(f"{path} marks no target object")
-    return targets[0]
-
-
-def _option_flags(options: dict) -> list[str]:
-    flags = []
-    for name, value in options.items():
-        flag = "--" + name.replace("_", "-")
-        flags += ([flag if value else f"--no-{name.replace('_', '-')}"] if isinstance(value, bool)
-                  else [flag, str(value)])
-    return flags
-
-
-def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespace, failed: str = "") -> dict:
-    """One cell: its shared stages where not done (`failed`: the reason they failed elsewhere), then
-    `engine complete`, unless its scores.json is there already."""
-    spec = benchmark_cells()[method]
-    kind = get(spec.method)
-    wide = {k: getattr(args, k) for k in BENCHWIDE_OPTIONS if k in {o.name for o in kind.options}}
-    options = resolve_options(kind, {**spec.options, **wide})
-    name = kind.title(inpainter, options)
-    cell = {"scene": stages.scene.name, "seed": stages.seed, "inpainter": inpainter, "method": name}
-    out = stages.run.complete(name)
-    if args.report_only and not out.scores_json.is_file():
-        return {**cell, "status": "not run", "reason": "not finished when the report was written (--report-only)"}
-    if failed and not out.scores_json.is_file():
-        return {**cell, "status": "failed", "reason": failed}
-    try:
-        if not out.scores_json.is_file():
-            stages.prepare(inpainter, kind.source)
-            shutil.rmtree(out.root, ignore_errors=True)  # an interrupted cell starts again
-            flags = ["--method", kind.name, "--inpainter", inpainter, "--seed", str(stages.seed), "--device",
-                     args.device, *_option_flags(options)]
-            flags += ["--steps", str(args.complete_steps)] if args.complete_steps else []
-            run_engine(["complete", "--run", str(stages.run.root), "--out", str(out.root), *flags])
-        report = json.loads(out.scores_json.read_text())
-    except EngineError as exc:
-        return {**cell, "status": "failed", "reason": str(exc)}
-    return {**cell, "status": "done", **report["scores"], "gaussians": report["gaussians"],
-            "scene_dir": str(stages.scene), "renders": str(out.renders),
-            "seconds": round(stages.seconds(kind.source, inpainter, report["seconds"]), 1),
-            "removed_scores": report["removed_scores"], "unavailable": report["unavailable"]}
 
 
 def _fmt(value, key: str) -> str:

@@ -21,7 +21,7 @@ REPO = Path(__file__).resolve().parent.parent
 
 
 def _stages(scene: str, seed: int, work: str, args: argparse.Namespace):
-    from benchmark import Stages
+    from benchmark_stages import Stages
 
     return Stages(Path(scene), seed, Path(work), args)
 
@@ -52,7 +52,7 @@ def inpaint_task(failed: str, scene: str, seed: int, inpainter: str, source: str
 
 def cell_task(failed: str, scene: str, seed: int, inpainter: str, method: str, work: str,
               args: argparse.Namespace) -> dict:
-    from benchmark import run_cell
+    from benchmark_stages import run_cell
 
     return run_cell(_stages(scene, seed, work, args), method, inpainter, args, failed=failed)
 
