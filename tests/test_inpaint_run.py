@@ -229,7 +229,7 @@ def test_finetune_without_lpips_weights_says_how_to_go_on(stages, tmp_path, monk
 
     monkeypatch.delenv("LPIPS_BACKBONE", raising=False)
     monkeypatch.setenv("TORCH_HOME", str(tmp_path))
-    with pytest.raises(InputError, match="--perceptual l1"):
+    with pytest.raises(InputError, match="--perceptual st-lpips or l1"):
         run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainted=str(fsr_for_ft(stages)),
                                     removed=str(stages["removed"]), holes=str(stages["holes"]),
                                     out=str(tmp_path / "ft"), device="cpu"))
