@@ -16,6 +16,7 @@ from pathlib import Path
 
 from addon.engine_call import EngineError, run_engine
 from engine.complete.registry import benchmark_cells, get, resolve_options
+from engine.formats.checks import png_size
 from engine.formats.layout import RunLayout, SceneLayout
 
 BENCHWIDE_OPTIONS = ("perceptual",)  # options the benchmark sets for every method that has them
@@ -127,6 +128,32 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
     except EngineError as exc:
         return {**cell, "status": "failed", "reason": str(exc)}
     return {**cell, "status": "done", **report["scores"], "gaussians": report["gaussians"],
+            "settings": cell_settings(stages, inpainter, kind.source, report),
             "scene_dir": str(stages.scene), "renders": str(out.renders),
             "seconds": round(stages.seconds(kind.source, inpainter, report["seconds"]), 1),
             "removed_scores": report["removed_scores"], "unavailable": report["unavailable"]}
+
+
+BASE_KEYS = ("preset", "steps", "max_gaussians", "resolution", "sh_degree", "seed")
+
+
+def _json(path: Path) -> dict:
+    return json.loads(path.read_text()) if path.is_file() else {}
+
+
+def cell_settings(stages: Stages, inpainter: str, source: str, report: dict) -> dict:
+    """What a finished cell ran with, kept in its record: the base run's settings, GPU and versions (from its
+    config.json and metrics.json), the scene's views and image size, the inpainting's options and the
+    completion's own settings."""
+    config, metrics = _json(stages.run.config_json), _json(stages.run.metrics_json)
+    split = _json(SceneLayout(stages.scene).split_json)
+    images = sorted(p for p in SceneLayout(stages.scene).images.iterdir() if p.is_file())
+    pngs = [p for p in images if p.suffix.lower() == ".png"]
+    inpainted = _json(stages.run.inpainted(inpainter, source).config_json).get("config", {})
+    return {"base": {k: config.get(k) for k in BASE_KEYS} | {"gaussians": metrics.get("gaussians"),
+                                                           "train_seconds": metrics.get("train_seconds")},
+            "scene": {"views": len(images), "train": len(split.get("train", [])), "test": len(split.get("test", [])),
+                      "size": list(png_size(pngs[0]) or ()) if pngs else None},
+            "inpaint": {k: v for k, v in inpainted.items() if k not in ("run", "removed", "holes", "out")},
+            "complete": report.get("config", {}), "gpu": metrics.get("gpu"), "versions": metrics.get("versions")}
+

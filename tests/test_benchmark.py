@@ -29,6 +29,11 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     assert [(c["method"], c["status"]) for c in cells] == [
         ("Init-fsr", "done"), ("FT-fsr(3)[l1]", "done"), ("Init-lama", "failed"), ("FT-lama(3)[l1]", "failed")]
     assert "LAMA_MODEL" in cells[2]["reason"]  # no weights: recorded, and the matrix went on
+    settings = cells[0]["settings"]  # what the cell ran with, in its record
+    assert settings["base"]["steps"] == 200 and settings["base"]["max_gaussians"] == 0
+    assert settings["scene"] == {"views": 8, "train": 7, "test": 1, "size": [96, 72]}
+    assert settings["inpaint"]["dilate"] == 1 and settings["complete"]["steps"] == 100
+    assert settings["versions"]["torch"] and settings["versions"]["engine"] and settings["gpu"] is None
     table = (tmp_path / "tables.md").read_text()
     assert "| Removed (unfilled) |" in table and "| Init-fsr |" in table and "**" in table
     assert "Failed cells" in table and "LAMA_MODEL" in table

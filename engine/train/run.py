@@ -21,6 +21,7 @@ import torch
 from engine.base.device import pick_device
 from engine.base.errors import Cancelled, InputError
 from engine.base.progress import Progress, emit
+from engine.base.versions import gpu_name, versions
 from engine.formats.layout import RunLayout
 from engine.io.ply_io import save_classifier, save_ply
 from engine.io.scene import load_scene
@@ -133,7 +134,7 @@ def _finish(trainer: Trainer, scene, run: Path) -> dict:
                              trainer.device)
     metrics.update(gaussians=len(trainer.params["means"]), steps=trainer.step_index,
                    train_seconds=round(trainer.seconds, 2), eval_seconds=round(time.perf_counter() - start, 2),
-                   device=str(trainer.device),
+                   device=str(trainer.device), gpu=gpu_name(trainer.device), versions=versions(),
                    peak_gpu_mb=(round(torch.cuda.max_memory_allocated() / 2**20, 1)
                                 if trainer.device.type == "cuda" else None))
     _write_json(RunLayout(run).metrics_json, metrics)
