@@ -1,11 +1,11 @@
-# On the device: the FID Inception and ST-LPIPS weights `make setup` made here, in two calls (the FID file is
-# 96 MB, over what one call carries). Staged, git-ignored: .bench/fid1 (fid.pth.part00), .bench/fid2
-# (fid.pth.part01, alex_shift_tolerant.pth, weights.sha256); made with `split -b 48M -d`.
-#   call 1 (carry .bench/fid1), call 2 (carry .bench/fid2):  bash docs/benchmarks/ray/weights.sh
+# On the device: the FID Inception and ST-LPIPS weights `make setup` made here, in three calls (the FID file is
+# 96 MB; a call carries about 49 MB beside the tree). Staged, git-ignored: .bench/fid1 (fid.pth.part00 and
+# alex_shift_tolerant.pth, 42 MB), .bench/fid2 (part01), .bench/fid3 (part02, weights.sha256); `split -b 32M -d`.
+#   calls 1-3 (carry .bench/fidN):  bash docs/benchmarks/ray/weights.sh
 # Then SPLATFILL_WEIGHTS=/tmp/weights fills the FID, KID and ST-LPIPS columns there.
 W=/tmp/weights; mkdir -p $W
 cp .bench/fid1/* $W/ 2>/dev/null; cp .bench/fid2/* $W/ 2>/dev/null
-if [ -f $W/fid.pth.part00 ] && [ -f $W/fid.pth.part01 ]; then
+if [ -f $W/fid.pth.part00 ] && [ -f $W/fid.pth.part01 ] && [ -f $W/fid.pth.part02 ]; then
   cat $W/fid.pth.part00 $W/fid.pth.part01 > $W/fid_inception_fid_helper.pth && rm $W/fid.pth.part0*
   (cd $W && sha256sum -c weights.sha256) || exit 1
 else
