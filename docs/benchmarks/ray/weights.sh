@@ -4,9 +4,9 @@
 #   calls 1-3 (carry .bench/fidN):  bash docs/benchmarks/ray/weights.sh
 # Then SPLATFILL_WEIGHTS=/tmp/weights fills the FID, KID and ST-LPIPS columns there.
 W=/tmp/weights; mkdir -p $W
-cp .bench/fid1/* $W/ 2>/dev/null; cp .bench/fid2/* $W/ 2>/dev/null
+cp .bench/fid[123]/* $W/ 2>/dev/null
 if [ -f $W/fid.pth.part00 ] && [ -f $W/fid.pth.part01 ] && [ -f $W/fid.pth.part02 ]; then
-  cat $W/fid.pth.part00 $W/fid.pth.part01 > $W/fid_inception_fid_helper.pth && rm $W/fid.pth.part0*
+  cat $W/fid.pth.part0[012] > $W/fid_inception_fid_helper.pth && rm $W/fid.pth.part0*
   (cd $W && sha256sum -c weights.sha256) || exit 1
 else
   ls $W
