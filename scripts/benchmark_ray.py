@@ -26,28 +26,25 @@ def _stages(scene: str, seed: int, work: str, args: argparse.Namespace):
     return Stages(Path(scene), seed, Path(work), args)
 
 
-def base_task(scene: str, seed: int, work: str, args: argparse.Namespace) -> str:
-    """Train, remove and holes for one scene and seed; '' or the failure's reason."""
+def _reason(step) -> str:
+    """'' when `step()` ran, else its one-line reason (the cells that depend on it fail with it)."""
     from addon.engine_call import EngineError
 
     try:
-        _stages(scene, seed, work, args).base()
+        step()
     except EngineError as exc:
         return str(exc)
     return ""
+
+
+def base_task(scene: str, seed: int, work: str, args: argparse.Namespace) -> str:
+    """Train, remove and holes for one scene and seed; '' or the failure's reason."""
+    return _reason(_stages(scene, seed, work, args).base)
 
 
 def inpaint_task(failed: str, scene: str, seed: int, inpainter: str, source: str, work: str,
                  args: argparse.Namespace) -> str:
-    from addon.engine_call import EngineError
-
-    if failed:
-        return failed
-    try:
-        _stages(scene, seed, work, args).inpaint(inpainter, source)
-    except EngineError as exc:
-        return str(exc)
-    return ""
+    return failed or _reason(lambda: _stages(scene, seed, work, args).inpaint(inpainter, source))
 
 
 def cell_task(failed: str, scene: str, seed: int, inpainter: str, method: str, work: str,

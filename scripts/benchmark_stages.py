@@ -30,7 +30,7 @@ class Stages:
         self.root = work / scene.name / f"seed{seed}"
         self.run = RunLayout(self.root / "run")
         self.times_file = self.root / "stage_times.json"
-        self.times = json.loads(self.times_file.read_text()) if self.times_file.is_file() else {}
+        self.times = _json(self.times_file)
 
     def stage(self, key: str, done: Path, args: list[str]) -> None:
         if done.exists():
@@ -40,7 +40,7 @@ class Stages:
         seconds = round(time.perf_counter() - start, 1)
         self.root.mkdir(parents=True, exist_ok=True)
         # re-read first: under Ray, stages of one scene and seed (two inpainters) finish in other processes
-        self.times = {**(json.loads(self.times_file.read_text()) if self.times_file.is_file() else {}), key: seconds}
+        self.times = {**_json(self.times_file), key: seconds}
         partial = self.times_file.with_suffix(f".{os.getpid()}.tmp")
         partial.write_text(json.dumps(self.times, indent=1))
         partial.replace(self.times_file)

@@ -40,6 +40,14 @@ def pytest_collection_modifyitems(config, items) -> None:
             item.add_marker(pytest.mark.fast)
 
 
+def setup_weight(name: str) -> Path:
+    """A file `make setup` put in .weights/: the tests that use one name it, since SPLATFILL_WEIGHTS points the
+    others at an empty folder."""
+    path = REPO / ".weights" / name
+    assert path.is_file(), f"{path} missing: run `make setup`"
+    return path
+
+
 def blender_command(script: str, args: list[str]) -> list[str]:
     """Run a script the way the README does: through $BLENDER if set, else the bpy environment."""
     blender = os.environ.get("BLENDER")

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
+from conftest import setup_weight
 
 from engine.edit.holes import HoleConfig, run_holes
 from engine.edit.removal import RemovalConfig, run_removal
@@ -195,8 +196,7 @@ def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_
 
     inpainted = fsr_for_ft(stages)
     backbone, heads = save_tiny_lpips_weights(tmp_path)
-    monkeypatch.setenv("ST_LPIPS_WEIGHTS", str(Path(__file__).resolve().parent.parent / ".weights" /
-                                               "alex_shift_tolerant.pth"))
+    monkeypatch.setenv("ST_LPIPS_WEIGHTS", str(setup_weight("alex_shift_tolerant.pth")))
     out = tmp_path / "ft"
     report = run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainted=str(inpainted),
                                          removed=str(stages["removed"]), holes=str(stages["holes"]), out=str(out),

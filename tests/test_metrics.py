@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 import torch
+from conftest import setup_weight
 
 from engine.base.errors import InputError
 from engine.metrics.distribution_metrics import frechet_distance, kernel_inception_distance
@@ -150,8 +149,7 @@ def test_fid_weights_taken_from_the_fid_helper_wheel_give_its_features(tmp_path)
     from engine.metrics.fid_helper_weights import inception_state
     from engine.metrics.fid_inception import FidInception
 
-    source = Path(__file__).resolve().parent.parent / ".weights" / "fid_helper_default_1.pt"
-    assert source.is_file(), f"{source} missing: run `make setup`"
+    source = setup_weight("fid_helper_default_1.pt")
     assert main(["weights", "--fid-helper", str(source), "--out", str(tmp_path / "fid.pth")]) == 0
     torchscript = torch.jit.load(str(source), map_location="cpu").eval()
     ours = FidInception(str(tmp_path / "fid.pth"))
@@ -174,8 +172,7 @@ def test_st_lpips_from_its_wheels_weights_tolerates_a_shift_that_noise_of_the_sa
     from engine.metrics.scores import ScoreConfig, score_views
     from engine.metrics.st_lpips import StLpips
 
-    weights = Path(__file__).resolve().parent.parent / ".weights" / "alex_shift_tolerant.pth"
-    assert weights.is_file(), f"{weights} missing: run `make setup`"
+    weights = setup_weight("alex_shift_tolerant.pth")
     metric = StLpips(str(weights))
     g = torch.Generator().manual_seed(0)
     smooth = F.interpolate(torch.rand(1, 3, 12, 16, generator=g), size=(96, 128), mode="bicubic").clamp(0, 1)

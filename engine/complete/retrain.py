@@ -24,7 +24,8 @@ from engine.complete.registry import CompletionMethod, Option
 RECOLMAP = Option("recolmap", False, "re-estimate poses and points from the inpainted images with pycolmap "
                   "(the paper's COLMAP ablation; init and direct)")
 WARM = Option("warm", False, "start from the removed scene's Gaussians and the base run's classifier instead of "
-              "the sparse points, for a tenth of the base run's steps unless --steps is given (init and direct)")
+              "the sparse points, for a tenth of the base run's steps unless --steps is given "
+              "(init, direct, reference)")
 
 
 class NewSceneMethod(CompletionMethod):

@@ -66,6 +66,11 @@ class CompletionJob:
     out: CompleteLayout
     device: torch.device
 
+    def short_steps(self) -> int:
+        """--steps, else a tenth of the base run's (at least 100): the runs that start from the base run's
+        scene instead of from scratch (FT, and --warm's new scenes)."""
+        return self.config.steps or max(self.original.config.steps // 10, 100)
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The common flags from CompleteConfig, then every registered method's options."""

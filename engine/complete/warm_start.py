@@ -18,8 +18,6 @@ from engine.io.gaussians import PARAM_NAMES, Gaussians
 from engine.io.ply_io import load_ply
 from engine.train.config import TrainConfig
 
-STEPS_SHARE = 10  # a tenth of the base run's steps, as FT
-
 
 def within_cap(gaussians: Gaussians, cap: int) -> Gaussians:
     """At most `cap` Gaussians, the most opaque: with a budget MCMC only relocates, never removes, so a start
@@ -35,8 +33,7 @@ def warm_setup(job, settings: TrainConfig) -> tuple[TrainConfig, dict]:
     """The settings and Trainer plug-ins of a warm start: the removed scene's Gaussians and the base run's
     classifier, every SH band from the first step (the start has them all), and a tenth of the base run's
     steps unless the user gave --steps."""
-    steps = job.config.steps or max(job.original.config.steps // STEPS_SHARE, 100)
-    config = dataclasses.replace(settings.with_steps(steps), sh_degree_interval=1)
+    config = dataclasses.replace(settings.with_steps(job.short_steps()), sh_degree_interval=1)
     removed = load_ply(job.removed.point_cloud)
     start = within_cap({k: removed[k].float() for k in PARAM_NAMES}, config.max_gaussians)
     return config, {"start": start, "classifier": copy.deepcopy(job.original.classifier)}

@@ -27,7 +27,6 @@ class Finetune(CompletionMethod):
     def setup(self, job, settings):
         from engine.complete.finetune import finetune_setup
 
-        steps = job.config.steps or max(job.original.config.steps // 10, 100)
         return finetune_setup(settings, job.original, job.removed, job.inpainted, job.holes, job.options["refs"],
-                              job.options["perceptual"], steps, job.config.seed, job.device,
+                              job.options["perceptual"], job.short_steps(), job.config.seed, job.device,
                               (job.config.lpips_backbone, job.config.lpips_heads))
