@@ -156,6 +156,49 @@ def test_pixel_cross_entropy_equals_torch_cross_entropy():
     torch.testing.assert_close(pixel_cross_entropy(logits, labels), expected)
 
 
+def test_the_photometric_loss_and_its_written_out_gradient_equal_autograds():
+    """engine.train.photometric_loss against the same loss traced by autograd through the SSIM metric."""
+    from engine.metrics.image_metrics import ssim
+    from engine.train.photometric_loss import photometric_loss
+
+    gen = torch.Generator().manual_seed(0)
+    target = torch.rand(23, 31, 3, generator=gen, dtype=torch.float64)
+    render = (0.7 * target + 0.3 * torch.rand(23, 31, 3, generator=gen, dtype=torch.float64)).requires_grad_(True)
+    traced = 0.8 * (render - target).abs().mean() + 0.2 * (1 - ssim(render, target))
+    (expected,) = torch.autograd.grad(3.0 * traced, render)
+    loss = photometric_loss(render, target, 0.2)
+    (got,) = torch.autograd.grad(3.0 * loss, render)
+    torch.testing.assert_close(loss, traced, rtol=1e-12, atol=1e-12)
+    assert expected.abs().max() > 1e-4
+    torch.testing.assert_close(got, expected, rtol=1e-9, atol=1e-12)
+
+
+def test_adam_step_equals_fused_adam_for_every_optimizer():
+    """engine.train.adam_step: the same numbers as each optimizer's own fused step, state where Adam keeps it."""
+    from engine.train.adam_step import adam_step
+
+    gen = torch.Generator().manual_seed(0)
+    shapes, lrs = [(40, 3), (40,), (7, 16)], [1e-2, 5e-3, 1e-2]
+    runs = []
+    for _ in range(2):
+        params = [torch.nn.Parameter(torch.randn(s, generator=torch.Generator().manual_seed(i)))
+                  for i, s in enumerate(shapes)]
+        optimizers = [torch.optim.Adam([p], lr=lr, eps=1e-15, fused=True) for p, lr in zip(params, lrs, strict=False)]
+        runs.append((params, optimizers))
+    for _ in range(5):
+        grads = [torch.randn(s, generator=gen) for s in shapes]
+        for params, _ in runs:
+            for p, g in zip(params, grads, strict=False):
+                p.grad = g.clone()
+        for o in runs[0][1]:
+            o.step()
+            o.zero_grad(set_to_none=True)
+        adam_step(runs[1][1])
+    for (a, oa), (b, ob) in zip(zip(*runs[0], strict=False), zip(*runs[1], strict=False), strict=False):
+        assert torch.equal(a, b) and b.grad is None
+        assert float(ob.state[b]["step"]) == 5 and torch.equal(oa.state[a]["exp_avg_sq"], ob.state[b]["exp_avg_sq"])
+
+
 def test_budget_noise_equals_gsplat_mcmc_noise():
     """BudgetStrategy's position noise is gsplat's inject_noise_to_position, only computed differently."""
     from gsplat.strategy.ops import inject_noise_to_position

@@ -6,7 +6,9 @@ Images are float tensors in [0, 1], shape (H, W, C). SSIM uses the usual 11x11 G
 
 from __future__ import annotations
 
+import functools
 import math
+from dataclasses import dataclass
 
 import torch
 import torch.nn.functional as F
@@ -21,30 +23,50 @@ def psnr(a: torch.Tensor, b: torch.Tensor) -> float:
     return psnr_from_mse(torch.mean((a.float() - b.float()) ** 2).item())
 
 
-def _gaussian_1d(size: int, sigma: float, device, dtype) -> torch.Tensor:
+@functools.cache
+def _window(size: int, sigma: float, device: torch.device, dtype: torch.dtype) -> torch.Tensor:
+    """The normalised 1-D Gaussian window, built once per device (a training step blurs twice)."""
     x = torch.arange(size, device=device, dtype=dtype) - size // 2
     g = torch.exp(-(x**2) / (2 * sigma**2))
     return g / g.sum()
 
 
-def ssim_map(a: torch.Tensor, b: torch.Tensor, size: int = 11, sigma: float = 1.5) -> torch.Tensor:
-    """Per-pixel SSIM (H, W), averaged over channels, for images (H, W, C)."""
-    x, y = a.permute(2, 0, 1)[None], b.permute(2, 0, 1)[None]
+def blur(t: torch.Tensor, size: int = 11, sigma: float = 1.5) -> torch.Tensor:
+    """SSIM's Gaussian window over each channel of (1, C, H, W), 'same' zero padding, as two 1-D passes.
+    The window is symmetric and zero-padded, so this operator is its own adjoint (the training loss's
+    backward, engine.train.photometric_loss, blurs its gradients with it)."""
+    g, channels = _window(size, sigma, t.device, t.dtype), t.shape[1]
+    t = F.conv2d(t, g.view(1, 1, 1, size).expand(channels, 1, 1, size), padding=(0, size // 2), groups=channels)
+    return F.conv2d(t, g.view(1, 1, size, 1).expand(channels, 1, size, 1), padding=(size // 2, 0), groups=channels)
+
+
+@dataclass
+class SsimParts:
+    """SSIM's local statistics of x against y, each (1, C, H, W): value = a1 a2 / (b1 b2)."""
+
+    mu_x: torch.Tensor
+    mu_y: torch.Tensor
+    a1: torch.Tensor  # 2 mu_x mu_y + c1
+    a2: torch.Tensor  # 2 cov_xy + c2
+    b1: torch.Tensor  # mu_x^2 + mu_y^2 + c1
+    b2: torch.Tensor  # var_x + var_y + c2
+    value: torch.Tensor
+
+
+def ssim_parts(x: torch.Tensor, y: torch.Tensor) -> SsimParts:
+    """SSIM's terms for images (1, C, H, W); all five local means come from one blur."""
     channels = x.shape[1]
-    g = _gaussian_1d(size, sigma, x.device, x.dtype)
-    rows = g.view(1, 1, 1, size).expand(5 * channels, 1, 1, size)
-    cols = g.view(1, 1, size, 1).expand(5 * channels, 1, size, 1)
-
-    def blur(t: torch.Tensor) -> torch.Tensor:  # separable window: two 1-D passes instead of one 11x11
-        t = F.conv2d(t, rows, padding=(0, size // 2), groups=t.shape[1])
-        return F.conv2d(t, cols, padding=(size // 2, 0), groups=t.shape[1])
-
-    stats = blur(torch.cat([x, y, x * x, y * y, x * y], dim=1))  # all five local means in one call
-    mu_x, mu_y, xx, yy, xy = stats.split(channels, dim=1)
-    sxx, syy, sxy = xx - mu_x**2, yy - mu_y**2, xy - mu_x * mu_y
+    mu_x, mu_y, xx, yy, xy = blur(torch.cat([x, y, x * x, y * y, x * y], dim=1)).split(channels, dim=1)
     c1, c2 = 0.01**2, 0.03**2
-    value = ((2 * mu_x * mu_y + c1) * (2 * sxy + c2)) / ((mu_x**2 + mu_y**2 + c1) * (sxx + syy + c2))
-    return value[0].mean(dim=0)
+    mu_xy = mu_x * mu_y
+    a1, a2 = 2 * mu_xy + c1, 2 * (xy - mu_xy) + c2
+    b1, b2 = mu_x**2 + mu_y**2 + c1, (xx - mu_x**2) + (yy - mu_y**2) + c2
+    return SsimParts(mu_x, mu_y, a1, a2, b1, b2, (a1 * a2) / (b1 * b2))
+
+
+def ssim_map(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
+    """Per-pixel SSIM (H, W), averaged over channels, for images (H, W, C)."""
+    return ssim_parts(a.permute(2, 0, 1)[None], b.permute(2, 0, 1)[None]).value[0].mean(dim=0)
 
 
 def ssim(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:

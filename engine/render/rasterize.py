@@ -1,8 +1,8 @@
 """Render Gaussians for one camera: RGB, expected depth, alpha and identity (or class logits), in one pass.
 
 gsplat 1.5.3 on CUDA; on the CPU the pure-torch reference (engine.render.rasterize_reference) with the same math.
-RGB (from spherical harmonics, evaluated here for both back ends) and the identity channels are blended
-together, with expected depth appended ("RGB+ED") when asked for, so one rasterization gives everything.
+RGB (spherical harmonics: gsplat's kernel on CUDA, engine.render.sh on the CPU) and the identity channels are
+blended together, with expected depth appended ("RGB+ED") when asked for, so one rasterization gives everything.
 
 Given the classifier, the Gaussians' identities are projected through its weights *before* blending:
 blending is linear, so W (sum_i w_i e_i) + b = sum_i w_i (W e_i) + b, the same logits and gradients
@@ -73,6 +73,27 @@ def gsplat_rasterization():
     return rasterization
 
 
+@functools.cache
+def gsplat_spherical_harmonics():
+    """gsplat's SH evaluation, loaded after its extension is (gsplat_rasterization)."""
+    gsplat_rasterization()
+    from gsplat.cuda._wrapper import spherical_harmonics
+
+    return spherical_harmonics
+
+
+def sh_colors(gaussians: Gaussians, offsets: torch.Tensor, sh_degree: int, backend: str) -> torch.Tensor:
+    """Each Gaussian's SH colour (N, 3), before the +0.5 offset, towards `offsets` (N, 3: Gaussian minus camera
+    centre, not normalised). gsplat evaluates it in one kernel each way; our broadcast product (engine.render.sh,
+    the same constants) takes about 40 small kernels forward, which cost the training loop 0.6 ms of host time a
+    step, so it serves the CPU reference only."""
+    sh0, sh_rest = gaussians["sh0"], gaussians["shN"]
+    if backend == "gsplat":
+        coeffs = torch.cat([sh0, sh_rest[:, : (sh_degree + 1) ** 2 - 1]], dim=1)
+        return gsplat_spherical_harmonics()(sh_degree, offsets, coeffs)
+    return eval_sh(sh_degree, sh0, sh_rest, torch.nn.functional.normalize(offsets, dim=-1))
+
+
 def rasterize(gaussians: Gaussians, features: torch.Tensor, camera: CameraTensors, backend: str,
               depth: bool = True) -> tuple[torch.Tensor, torch.Tensor, dict]:
     """Blend per-Gaussian `features` (N, D) into (H, W, D [+ 1 expected depth]) and alpha (H, W, 1) on
@@ -95,8 +116,7 @@ def render(gaussians: Gaussians, camera: CameraTensors, sh_degree: int, backend:
     with `classifier`, also the per-pixel class logits; `depth=False` skips the depth channel."""
     means = gaussians["means"]
     backend = backend or default_backend(means.device)
-    dirs = torch.nn.functional.normalize(means.detach() - camera.center, dim=-1)
-    rgb = torch.clamp_min(eval_sh(sh_degree, gaussians["sh0"], gaussians["shN"], dirs) + 0.5, 0.0)
+    rgb = torch.clamp_min(sh_colors(gaussians, means.detach() - camera.center, sh_degree, backend) + 0.5, 0.0)
     identity = gaussians["identity"]
     project_first = classifier is not None and classifier.out_features <= identity.shape[-1]
     features = torch.cat([rgb, identity @ classifier.weight.T if project_first else identity], dim=-1)

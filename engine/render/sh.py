@@ -4,7 +4,8 @@ Colour = basis(direction) . coefficients as one broadcast product and sum: index
 band at a time made autograd materialise a full-size gradient per coefficient (1.1 ms a step at 286k
 Gaussians), and `einsum` turned the product into 286k tiny batched matrix products (1 ms a step, forward
 and backward, on the H200).
-Used by both rasterizer back ends, so colours agree exactly between them.
+The CPU reference rasterizer's colours; on CUDA gsplat's one-kernel evaluation of the same constants is used
+(engine.render.rasterize.sh_colors), and scripts/check_rasterizer.py compares the two, colours and gradients.
 """
 
 from __future__ import annotations

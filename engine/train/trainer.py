@@ -20,11 +20,13 @@ from gsplat.strategy import DefaultStrategy
 from engine.base.errors import InputError
 from engine.io.gaussians import PARAM_NAMES, Gaussians, init_from_points, new_classifier
 from engine.io.scene import Scene
-from engine.metrics.image_metrics import psnr_from_mse, ssim
+from engine.metrics.image_metrics import psnr_from_mse
 from engine.render.rasterize import CameraTensors, render
+from engine.train.adam_step import adam_step
 from engine.train.budget_strategy import BudgetStrategy
 from engine.train.config import TrainConfig
 from engine.train.identity_regularizer import IdentityRegularizer
+from engine.train.photometric_loss import photometric_loss
 
 
 def scene_extent(scene: Scene) -> float:
@@ -71,8 +73,7 @@ class GroupingObjective:
 
     def __call__(self, trainer: Trainer, view: int, out, target: torch.Tensor) -> torch.Tensor:
         cfg = trainer.config
-        loss = (1 - cfg.ssim_weight) * (out.rgb - target).abs().mean() + cfg.ssim_weight * (1 - ssim(out.rgb, target))
-        return loss + grouping_terms(trainer, view, out)
+        return photometric_loss(out.rgb, target, cfg.ssim_weight) + grouping_terms(trainer, view, out)
 
 
 def grouping_terms(trainer: Trainer, view: int, out) -> torch.Tensor | float:
@@ -124,7 +125,7 @@ class Trainer:
         self.params = self._init_params(start)
         self.optimizers = {name: self._adam(name, p) for name, p in self.params.items()}
         self.classifier = (classifier or new_classifier(num_classes_of(scene))).to(device)
-        self.classifier_opt = torch.optim.Adam(self.classifier.parameters(), lr=config.lr_classifier)
+        self.classifier_opt = torch.optim.Adam(self.classifier.parameters(), lr=config.lr_classifier, fused=True)
         self.strategy = self._strategy()
         self.strategy.check_sanity(self.params, self.optimizers)
         self.strategy_state = (self.strategy.initialize_state() if self.budget
@@ -157,8 +158,7 @@ class Trainer:
 
     def _adam(self, name: str, param: torch.nn.Parameter) -> torch.optim.Adam:
         lr = getattr(self.config, f"lr_{name}") * (self.extent if name == "means" else 1.0)
-        return torch.optim.Adam([{"params": [param], "lr": lr, "name": name}], eps=1e-15,
-                                fused=self.device.type == "cuda")
+        return torch.optim.Adam([{"params": [param], "lr": lr, "name": name}], eps=1e-15, fused=True)
 
     def _strategy(self) -> DefaultStrategy | BudgetStrategy:
         cfg = self.config
@@ -194,9 +194,7 @@ class Trainer:
             for param in self.params.values():
                 if param.grad is not None:
                     param.grad[: self.frozen] = 0
-        for optimizer in (*self.optimizers.values(), self.classifier_opt):
-            optimizer.step()
-            optimizer.zero_grad(set_to_none=True)
+        adam_step((*self.optimizers.values(), self.classifier_opt))
         if self.budget:
             self.strategy.step_post_backward(self.params, self.optimizers, self.strategy_state, step, out.info, lr=lr)
         else:

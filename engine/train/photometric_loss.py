@@ -1,0 +1,49 @@
+"""3DGS's photometric loss, (1 - w) L1 + w (1 - SSIM), with its gradient written out instead of traced.
+
+Why: autograd records SSIM as about 25 small operations and replays about 40 in the backward pass, every
+training step. Their GPU time is small, but the training loop is bound by the host's time to launch
+kernels (docs/BENCHMARKS.md, "Where a training step goes"), so each launch saved is time saved. The forward
+pass is engine.metrics.image_metrics.ssim_parts (the metric's own code); the backward pass is the closed form
+below, checked against autograd in tests/test_training.py.
+
+With S = a1 a2 / (b1 b2) per pixel and channel, the five blurred statistics m_x, m_y, E[x^2], E[y^2],
+E[xy] (blur G), and only x (the render) needing a gradient:
+  dS/dm_x = 2 (m_y (a2 - a1) - m_x S (b2 - b1)) / (b1 b2),  dS/dE[x^2] = -S / b2,  dS/dE[xy] = 2 a1 / (b1 b2)
+  dL/dx = G(u dS/dm_x) + 2 x G(u dS/dE[x^2]) + y G(u dS/dE[xy])   (G is its own adjoint)
+where u = -w / (C H W) is the loss's derivative with respect to each S.
+"""
+
+from __future__ import annotations
+
+import torch
+
+from engine.metrics.image_metrics import blur, ssim_parts
+
+
+class _Photometric(torch.autograd.Function):
+    @staticmethod
+    def forward(ctx, rgb: torch.Tensor, target: torch.Tensor, ssim_weight: float) -> torch.Tensor:
+        x, y = rgb.permute(2, 0, 1)[None], target.permute(2, 0, 1)[None]
+        parts = ssim_parts(x, y)
+        ctx.save_for_backward(x, y, parts.mu_x, parts.mu_y, parts.a1, parts.a2, parts.b1, parts.b2, parts.value)
+        ctx.ssim_weight = ssim_weight
+        l1 = (x - y).abs().mean()
+        return (1 - ssim_weight) * l1 + ssim_weight * (1 - parts.value.mean())
+
+    @staticmethod
+    def backward(ctx, grad: torch.Tensor):
+        x, y, mu_x, mu_y, a1, a2, b1, b2, value = ctx.saved_tensors
+        w, count = ctx.ssim_weight, x.numel()
+        inv = 1 / (b1 * b2)
+        d_mu = 2 * inv * (mu_y * (a2 - a1) - mu_x * value * (b2 - b1))
+        d_xx = -value / b2
+        d_xy = 2 * a1 * inv
+        g_mu, g_xx, g_xy = blur(torch.cat([d_mu, d_xx, d_xy], dim=1)).split(x.shape[1], dim=1)
+        d_x = (-w / count) * (g_mu + 2 * x * g_xx + y * g_xy) + ((1 - w) / count) * torch.sign(x - y)
+        return (grad * d_x)[0].permute(1, 2, 0), None, None
+
+
+def photometric_loss(rgb: torch.Tensor, target: torch.Tensor, ssim_weight: float) -> torch.Tensor:
+    """(1 - ssim_weight) mean |rgb - target| + ssim_weight (1 - SSIM) for images (H, W, C); differentiable in
+    `rgb` only (the target is data)."""
+    return _Photometric.apply(rgb, target, ssim_weight)
