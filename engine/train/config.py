@@ -33,9 +33,10 @@ class TrainConfig:
     steps: int = 30_000
     seed: int = 0
     device: str = "auto"  # auto | cuda | cpu
-    # N = gsplat's MCMCStrategy capped at N Gaussians; 0 = no budget (gsplat's DefaultStrategy). Measured at
-    # 30k steps (docs/BENCHMARKS.md, "Training budget"): unbudgeted runs leave floaters (livingroom 31.2 dB
-    # with one test view at 16.9; statue 37.3) where 300k reaches 39.6-40.5 dB with no view far below
+    # N = gsplat's MCMCStrategy capped at N Gaussians; 0 = no budget (gsplat's DefaultStrategy). Chosen from the
+    # budget curve at 640x480/100 views (docs/BENCHMARKS.md, "The budget curve"): test PSNR 41.3-44.1 dB from
+    # 50k to 1M on livingroom, completions flat across budgets, 1M about 1.5x the time; unbudgeted runs leave
+    # floaters (a livingroom test view 11.7 dB below the mean)
     max_gaussians: int = 300_000
     resolution: int = 1  # load the scene at 1/resolution of its size (1, 2, 4, 8), as 3DGS's -r
     sh_degree: int = 3
