@@ -11,7 +11,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(ROOT / "scripts"))
-from benchmark_report import WIDTH, HEIGHT, _panel  # noqa: E402
+from benchmark_report import HEIGHT, WIDTH, _panel  # noqa: E402
 
 from engine.io.image_io import write_png  # noqa: E402
 from engine.pictures.chart_png import draw_chart  # noqa: E402

@@ -1,6 +1,8 @@
 # the jobs of the device runners (run9/runner.sh, run10/runner.sh), sourced by them: one scene's base run (train,
 # remove, holes, each timed into the benchmark's stage_times.json so scripts/benchmark.py resumes from them) and its
-# completions (Init and Ref with the inpainters in $INPAINTERS, 10k steps); a worker's $GPU, where set, tags its lines.
+# completions (the cells in $METHODS, Init and Ref unless given, with the inpainters in $INPAINTERS, $COMPLETE_STEPS
+# steps, 10k unless given; FT's perceptual term $PERCEPTUAL, l1 unless given: st-lpips needs the weights staged by
+# docs/benchmarks/ray/weights.sh and SPLATFILL_WEIGHTS=/tmp/weights); a worker's $GPU, where set, tags its lines.
 # A scene named <scene>_b<N> (a link to <scene>, docs/benchmarks/budget/curve.sh) trains with --max-gaussians N.
 export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3)
 B=/tmp/b; W=$B/out/work
@@ -22,6 +24,6 @@ base() {
 }
 complete() {
   python3 scripts/benchmark.py --scenes $B/scenes/$1 --methods ${METHODS:-init reference} --inpainters ${INPAINTERS:-exemplar} --seeds 0 \
-    --out $B/out --complete-steps 10000 --perceptual l1 --device cuda > $B/bench_$1.log 2>&1
+    --out $B/out --complete-steps ${COMPLETE_STEPS:-10000} --perceptual ${PERCEPTUAL:-l1} --device cuda > $B/bench_$1.log 2>&1
   echo "$(date +%T) ${GPU:+gpu$GPU }$1 completions done: $(grep -c '\] ' $B/bench_$1.log) cells"; touch $W/$1/.complete
 }
