@@ -122,7 +122,8 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
             shutil.rmtree(out.root, ignore_errors=True)  # an interrupted cell starts again
             flags = ["--method", kind.name, "--inpainter", inpainter, "--seed", str(stages.seed), "--device",
                      args.device, *_option_flags(options)]
-            flags += ["--steps", str(args.complete_steps)] if args.complete_steps else []
+            steps = args.short_steps if kind.short(options) else args.complete_steps
+            flags += ["--steps", str(steps)] if steps else []
             run_engine(["complete", "--run", str(stages.run.root), "--out", str(out.root), *flags])
         report = json.loads(out.scores_json.read_text())
     except EngineError as exc:

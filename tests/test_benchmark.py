@@ -16,8 +16,8 @@ REPO = Path(__file__).resolve().parent.parent
 def benchmark(scene: Path, out: Path, *extra: str, seeds: tuple[str, ...] = ("0",)) -> subprocess.CompletedProcess:
     args = [sys.executable, str(REPO / "scripts" / "benchmark.py"), "--scenes", str(scene), "--methods", "init",
             "ft3", "--inpainters", "fsr", "lama", "--seeds", *seeds, *extra, "--out", str(out), "--preset", "tiny",
-            "--steps", "200", "--complete-steps", "100", "--max-gaussians", "0", "--dilate", "1", "--perceptual", "l1",
-            "--device", "cpu"]
+            "--steps", "200", "--complete-steps", "100", "--short-steps", "120", "--max-gaussians", "0",
+            "--dilate", "1", "--perceptual", "l1", "--device", "cpu"]
     env = {"PATH": "/usr/bin:/bin", "SPLATFILL_ENGINE_PYTHON": sys.executable, "HOME": str(out)}
     return subprocess.run(args, capture_output=True, text=True, env=env, cwd=REPO, timeout=900)
 
@@ -33,6 +33,7 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     assert settings["base"]["steps"] == 200 and settings["base"]["max_gaussians"] == 0
     assert settings["scene"] == {"views": 8, "train": 7, "test": 1, "size": [96, 72]}
     assert settings["inpaint"]["dilate"] == 1 and settings["complete"]["steps"] == 100
+    assert cells[1]["settings"]["complete"]["steps"] == 120  # FT continues from the base run: --short-steps
     assert settings["versions"]["torch"] and settings["versions"]["engine"] and settings["gpu"] is None
     table = (tmp_path / "tables.md").read_text()
     assert "| Removed (unfilled) |" in table and "| Init-fsr |" in table and "**" in table

@@ -52,6 +52,12 @@ class CompletionMethod:
         """The method's name in results, as the paper writes it (it also names the output folder)."""
         return f"{self.label}-{inpainter}"
 
+    def short(self, options: dict) -> bool:
+        """Whether it continues from the base run's scene and so trains for a tenth of its steps unless --steps
+        is given (CompletionJob.short_steps): FT, and --warm's new scenes. The rest train a new scene from
+        scratch for the base run's steps."""
+        return bool(options.get("warm"))
+
     def check(self, job) -> None:
         """Refuse options that cannot work, before anything is written."""
 

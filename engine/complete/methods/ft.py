@@ -20,6 +20,9 @@ class Finetune(CompletionMethod):
     needs = Needs(weights=("LPIPS backbone (--lpips-backbone; or --perceptual st-lpips or l1)",))
     cells = {"ft3": {"refs": 3}, "ftall": {"refs": 0}}
 
+    def short(self, options: dict) -> bool:
+        return True
+
     def title(self, inpainter: str, options: dict) -> str:
         tag = "" if options["perceptual"] == "lpips" else f"[{options['perceptual']}]"
         return f"FT-{inpainter}({options['refs'] or 'All'}){tag}"
