@@ -1,0 +1,19 @@
+# Issue 18's full table, seed 0 of the three families, on 4 GPUs (staged for the next session; nothing here has run
+# yet). Every call of the chain runs this: it takes whatever the call carries.
+#   A: carry .whl .gsplat_build .bench/full1   (statue_s0, both parts)
+#   B: carry .bench/full2                      (livingroom_s0 both parts, tabletop_s0 3of3)
+#   C: carry .bench/full3                      (tabletop_s0 1of3, 2of3)
+#   D, E: carry .bench/ray1, then .bench/ray2  (Ray 2.60.0 and its dependencies: the benchmark's scheduler)
+#   F, G, H: carry .bench/fid1, fid2, fid3     (FID Inception and ST-LPIPS weights, into /tmp/weights)
+# each: `bash docs/benchmarks/full/recv.sh`; then `bash docs/benchmarks/full/start.sh`; then, until it is done,
+# `PERCEPTUAL=st-lpips METHODS="init reference ft3 ftall direct" INPAINTERS="telea exemplar" bash
+# docs/benchmarks/full/collect.sh 540` (it waits up to that many seconds, then packs what has finished).
+B=/tmp/b; mkdir -p $B/parts $B/scenes
+[ -d .whl ] && [ ! -d /tmp/site/gsplat ] && python3 -m pip install -q --no-index --no-deps --no-compile --target /tmp/site .whl/*.whl
+export PYTHONPATH=/tmp/site:.
+bash docs/benchmarks/train/speed/gsplat_cached.sh
+for d in .bench/full*; do [ -d $d ] && cp $d/* $B/parts/; done
+python3 docs/benchmarks/effects/run8/unpack.py $B/parts $B/scenes
+{ [ -d .bench/ray1 ] || [ -d .bench/ray2 ]; } && bash docs/benchmarks/ray/install.sh
+{ [ -d .bench/fid1 ] || [ -d .bench/fid2 ] || [ -d .bench/fid3 ]; } && bash docs/benchmarks/ray/weights.sh
+ls $B/scenes /tmp/weights 2>/dev/null; du -sh $B/parts
