@@ -144,6 +144,13 @@ def _video(args: argparse.Namespace) -> None:
     emit("done", stage="video", out=str(write_mp4(frames, out, args.fps)), frames=len(frames))
 
 
+def _turntable(args: argparse.Namespace) -> None:
+    from engine.pictures.turntable import TurntableConfig, make_turntable
+    from engine.train.config import config_from_args
+
+    print(f"wrote {make_turntable(config_from_args(args, TurntableConfig))}", file=sys.stderr)
+
+
 def _chart(args: argparse.Namespace) -> None:
     from engine.pictures.chart_png import chart_png
 
@@ -295,6 +302,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="new .mp4 file")
     p.add_argument("--fps", type=int, default=24)
     p.set_defaults(handler=_video)
+    from engine.pictures.turntable import TurntableConfig
+
+    p = sub.add_parser("turntable", help="before | after around the removed object, rendered and written as an MP4")
+    add_config_arguments(p, TurntableConfig, required=("run", "out"))
+    p.set_defaults(handler=_turntable)
     p = sub.add_parser("chart", help="draw a chart's items (the benchmark's speed_accuracy.json) as a PNG")
     p.add_argument("--spec", required=True, help="JSON with width, height and items")
     p.add_argument("--out", required=True, help="PNG to write")

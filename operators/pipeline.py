@@ -1,5 +1,5 @@
 """The pipeline as Blender operators: import, Train / Group, Remove Selected, Hole Masks, Inpaint, Complete,
-Evaluate.
+Evaluate, Turntable.
 
 Each is thin: it reads the selection and its properties, names a new output folder (never over an input),
 runs one engine command through EngineOperator, and imports what the engine wrote into a new collection
@@ -10,14 +10,16 @@ splatfill_inpainted.
 
 from __future__ import annotations
 
+import json
 import tempfile
 import time
 from pathlib import Path
 
 import bpy
 
+from ..addon.camera_path import camera_path
 from ..addon.engine_call import EngineError, engine_plugins
-from ..addon.formats import layout
+from ..addon.formats import InputError, layout
 from ..addon.import_scene import import_cameras, import_splats
 from .engine_operator import EngineOperator, UserError, done_record, engine_settings
 
@@ -256,9 +258,43 @@ class SPLATFILL_OT_evaluate(EngineOperator, bpy.types.Operator):
         return f"{self._name}: " + ", ".join(shown)
 
 
+class SPLATFILL_OT_turntable(EngineOperator, bpy.types.Operator):
+    bl_idname = "splatfill.turntable"
+    bl_label = "Turntable"
+    bl_description = ("Before | after around the removed object as an H.264 MP4, rendered by the engine: an orbit, "
+                      "or the scene camera's path over the frame range")
+    frames: bpy.props.IntProperty(name="Frames", default=48, min=1, description="frames of the orbit")
+    follow_camera: bpy.props.BoolProperty(name="Follow the scene camera", default=False,
+                                          description="the scene camera's path over the frame range, not an orbit")
+
+    def engine_args(self, context, device):
+        c = run_collection(context, "splatfill_removed")
+        removed = Path(c["splatfill_removed"])
+        self._out = removed.parent / f"turntable-{removed.name}-{stamp()}"
+        args = ["turntable", "--run", c["splatfill_run"], "--removed", str(removed), "--out", str(self._out),
+                "--frames", str(self.frames), "--device", device]
+        self._cameras = None
+        if self.follow_camera:
+            try:
+                records = camera_path(context.scene.camera, context.scene)
+            except InputError as exc:
+                raise UserError(str(exc)) from exc
+            with tempfile.NamedTemporaryFile("w", suffix=".json", prefix="splatfill-cameras-", delete=False) as f:
+                json.dump(records, f)
+            self._cameras = Path(f.name)
+            args += ["--cameras", f.name]
+        return args
+
+    def finish(self, context, records):
+        if self._cameras is not None:
+            self._cameras.unlink(missing_ok=True)
+        done = done_record(records, "turntable")
+        return f"turntable: {done['out']} ({done['frames']} frames)"
+
+
 CLASSES = (SPLATFILL_OT_import_colmap, SPLATFILL_OT_import_splats, SPLATFILL_OT_train,
            SPLATFILL_OT_remove_selected, SPLATFILL_OT_hole_masks, SPLATFILL_OT_inpaint, SPLATFILL_OT_complete,
-           SPLATFILL_OT_evaluate)
+           SPLATFILL_OT_evaluate, SPLATFILL_OT_turntable)
 
 
 register, unregister = bpy.utils.register_classes_factory(CLASSES)

@@ -1,5 +1,6 @@
 """The add-on's operators on a tiny scene, headless: import a trained run, Remove Selected through the
-engine (on the CPU, synchronously as under `blender -b`), and the turntable script's frames."""
+engine (on the CPU, synchronously as under `blender -b`), the turntable script's frames and the Turntable
+operator's MP4."""
 
 from __future__ import annotations
 
@@ -89,11 +90,7 @@ def test_turntable_writes_side_by_side_frames_and_an_mp4_that_decodes(run: Path,
                            str(removed), "--frames", "3", "--keep-frames", "--out", str(tmp_path / "tt"), "--device",
                            "cpu"], capture_output=True, text=True, env=env)
     assert proc.returncode == 0, proc.stderr[-2000:]
-    decode = ("import cv2, sys; c = cv2.VideoCapture(sys.argv[1]); n = 0\nwhile c.read()[0]: n += 1\n"
-              "print(n, int(c.get(cv2.CAP_PROP_FRAME_WIDTH)))")  # decoded in the engine's Python, which has OpenCV
-    counted = subprocess.run([str(ENGINE_PYTHON), "-c", decode, str(tmp_path / "tt" / "turntable.mp4")],
-                             capture_output=True, text=True, check=True).stdout.split()
-    assert counted == ["3", str(2 * 96)]  # three frames, before | after
+    assert _decoded(tmp_path / "tt" / "turntable.mp4") == ["3", str(2 * 96)]  # three frames, before | after
     frames = sorted((tmp_path / "tt" / "frames").glob("*.png"))
     assert [f.name for f in frames] == ["0000.png", "0001.png", "0002.png"]
     cameras = json.loads((tmp_path / "tt" / "cameras.json").read_text())
@@ -133,6 +130,39 @@ def test_turntable_follows_a_blender_camera_path(run: Path, registered, tmp_path
         assert record[key] == pytest.approx(truth[key], abs=1e-3)
     assert np.allclose(record["R"], truth["R"], atol=1e-5) and np.allclose(record["t"], truth["t"], atol=1e-4)
     assert (tmp_path / "tt" / "turntable.mp4").is_file() and not (tmp_path / "tt" / "frames").exists()
+
+
+def _decoded(video: Path) -> list[str]:
+    decode = ("import cv2, sys; c = cv2.VideoCapture(sys.argv[1]); n = 0\nwhile c.read()[0]: n += 1\n"
+              "print(n, int(c.get(cv2.CAP_PROP_FRAME_WIDTH)))")  # decoded in the engine's Python, which has OpenCV
+    return subprocess.run([str(ENGINE_PYTHON), "-c", decode, str(video)], capture_output=True, text=True,
+                          check=True).stdout.split()
+
+
+def test_the_turntable_operator_writes_an_mp4_of_an_orbit_or_of_the_scene_camera(run: Path, registered):
+    """The add-on's Turntable: the same engine command as the script, on the active removed scene's collection."""
+    removed = run / "removed-turntable"
+    if not removed.exists():
+        run_engine(["remove", "--run", str(run), "--object", "plush", "--out", str(removed), "--device", "cpu"])
+    collection = bpy.data.collections.new("removed for the turntable")
+    bpy.context.scene.collection.children.link(collection)
+    collection["splatfill_run"], collection["splatfill_removed"] = str(run), str(removed)
+    layer = bpy.context.view_layer.layer_collection.children[collection.name]
+    bpy.context.view_layer.active_layer_collection = layer
+    bpy.context.view_layer.objects.active = None
+    before = set(run.glob("turntable-*"))
+    assert bpy.ops.splatfill.turntable(frames=3) == {"FINISHED"}
+    (orbit,) = set(run.glob("turntable-*")) - before
+    assert _decoded(orbit / "turntable.mp4") == ["3", str(2 * 96)] and not (orbit / "frames").exists()
+    scene_dir = Path(json.loads((run / "config.json").read_text())["scene"])
+    assert bpy.ops.splatfill.import_colmap(directory=str(scene_dir)) == {"FINISHED"}
+    bpy.context.scene.camera = bpy.data.objects["0001"]
+    bpy.context.scene.frame_start, bpy.context.scene.frame_end = 1, 2
+    bpy.context.view_layer.active_layer_collection = layer
+    bpy.context.view_layer.objects.active = None
+    assert bpy.ops.splatfill.turntable(follow_camera=True) == {"FINISHED"}
+    (path,) = set(run.glob("turntable-*")) - before - {orbit}
+    assert _decoded(path / "turntable.mp4")[0] == "2" and len(json.loads((path / "cameras.json").read_text())) == 2
 
 
 def test_the_inpaint_and_complete_menus_list_the_engines_plugins(package, monkeypatch):
