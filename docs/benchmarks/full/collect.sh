@@ -4,3 +4,10 @@ end=$(( $(date +%s) + $1 ))
 while pgrep -f "[s]cripts/benchmark.py --scenes" > /dev/null && [ $(date +%s) -lt $end ]; do sleep 10; done
 tail -3 /tmp/b/runner.log
 SPLATFILL_WEIGHTS=/tmp/weights RUNNER=full-table-has-no-runner bash docs/benchmarks/effects/run9/collect.sh 0
+# one before | after MP4 per scene (issue 18, item 4): the base run against Ref-exemplar's completed scene (Init's where
+# Ref has none), 48 frames around the removed object, written by `python -m engine turntable`
+export PYTHONPATH=/tmp/site:.; mkdir -p $OUT/mp4
+for d in /tmp/b/out/work/*/seed0/run; do n=$(basename $(dirname $(dirname $d))); [ -f $OUT/mp4/$n.mp4 ] && continue
+  after=$(ls $d/complete/Ref-exemplar/run/point_cloud.ply $d/complete/Init-exemplar/run/point_cloud.ply 2>/dev/null | head -1)
+  [ -n "$after" ] && python3 -m engine turntable --run $d --after $after --out /tmp/tt_$n --device cuda > /dev/null 2>&1 &&
+    cp /tmp/tt_$n/turntable.mp4 $OUT/mp4/$n.mp4; done; ls -la $OUT/mp4
