@@ -37,7 +37,8 @@ def trainer_from_args(args: argparse.Namespace) -> Trainer:
         run = Path(args.run)
         config = TrainConfig(**json.loads(RunLayout(run).config_json.read_text()))
     else:
-        config = TrainConfig(scene=args.scene, out="unused", max_gaussians=args.budget).resolved()
+        config = TrainConfig(scene=args.scene, out="unused", max_gaussians=args.budget,
+                             identity_every=args.identity_every).resolved()
     if args.run:
         config.steps = 10**9  # keep schedules where the checkpoint left them
     trainer = Trainer(config, load_scene(config.scene), pick_device(config.device))
@@ -91,6 +92,7 @@ def main() -> int:
     source.add_argument("--scene", help="train this scene from its points to --until first")
     parser.add_argument("--until", type=int, default=7000, help="with --scene: steps to train before profiling")
     parser.add_argument("--budget", type=int, default=TrainConfig.max_gaussians)
+    parser.add_argument("--identity-every", type=int, default=TrainConfig.identity_every)
     parser.add_argument("--steps", type=int, default=300)
     parser.add_argument("--json", help="write the numbers here")
     parser.add_argument("--save", help="with --scene: keep the trained state as a run folder here (for --run)")

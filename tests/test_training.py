@@ -71,6 +71,24 @@ def test_the_schedule_stretches_with_the_steps_the_user_asks_for():
     assert TrainConfig(preset="tiny", max_gaussians=5_000).resolved().max_gaussians == 5_000
 
 
+def test_identities_are_rendered_only_on_the_steps_that_train_them(living_scene: Path, tmp_path: Path):
+    """identity_every=2: odd steps rasterize RGB alone, so nothing moves the identity encoding's Adam state there;
+    a scene without masks never renders identities (before, it blended 16 untrained channels every step)."""
+    scene = load_scene(living_scene)
+    trainer = Trainer(tiny_config(living_scene, tmp_path, identity_every=2, reg3d_every=0), scene, CPU)
+    moments = []
+    for _ in range(3):
+        trainer.step()
+        moments.append(trainer.optimizers["identity"].state[trainer.params["identity"]]["exp_avg"].clone())
+    assert moments[0].abs().max() > 0 and torch.equal(moments[1], moments[0])
+    assert not torch.equal(moments[2], moments[1])
+    scene.masks = None
+    unmasked = Trainer(tiny_config(living_scene, tmp_path / "unmasked"), scene, CPU)
+    for _ in range(3):
+        unmasked.step()
+    assert not unmasked.optimizers["identity"].state and unmasked.optimizers["sh0"].state
+
+
 def test_a_budget_caps_the_number_of_gaussians(living_scene: Path, tmp_path: Path):
     scene = load_scene(living_scene)
     cap = len(scene.points) + 500

@@ -111,15 +111,20 @@ def rasterize(gaussians: Gaussians, features: torch.Tensor, camera: CameraTensor
 
 
 def render(gaussians: Gaussians, camera: CameraTensors, sh_degree: int, backend: str | None = None,
-           classifier: torch.nn.Linear | None = None, depth: bool = True) -> RenderOutput:
+           classifier: torch.nn.Linear | None = None, depth: bool = True, identity: bool = True) -> RenderOutput:
     """Render `gaussians` (see engine.io.gaussians) seen by `camera`, using SH bands up to `sh_degree`;
-    with `classifier`, also the per-pixel class logits; `depth=False` skips the depth channel."""
+    with `classifier`, also the per-pixel class logits; `depth=False` skips the depth channel; `identity=False`
+    blends RGB alone (a training step with no identity loss: 3 channels instead of 9 or 19)."""
     means = gaussians["means"]
     backend = backend or default_backend(means.device)
     rgb = torch.clamp_min(sh_colors(gaussians, means.detach() - camera.center, sh_degree, backend) + 0.5, 0.0)
-    identity = gaussians["identity"]
-    project_first = classifier is not None and classifier.out_features <= identity.shape[-1]
-    features = torch.cat([rgb, identity @ classifier.weight.T if project_first else identity], dim=-1)
+    if not identity:
+        colors, alphas, info = rasterize(gaussians, rgb, camera, backend, depth)
+        return RenderOutput(rgb=colors[..., :3], depth=colors[..., -1] if depth else None, alpha=alphas[..., 0],
+                            identity=None, logits=None, info=info)
+    encoding = gaussians["identity"]
+    project_first = classifier is not None and classifier.out_features <= encoding.shape[-1]
+    features = torch.cat([rgb, encoding @ classifier.weight.T if project_first else encoding], dim=-1)
     colors, alphas, info = rasterize(gaussians, features, camera, backend, depth)
     channels = colors[..., 3:-1] if depth else colors[..., 3:]
     if project_first:

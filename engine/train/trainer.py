@@ -79,7 +79,7 @@ class GroupingObjective:
 def grouping_terms(trainer: Trainer, view: int, out) -> torch.Tensor | float:
     """The identity and regulariser terms every objective keeps."""
     cfg, step, loss = trainer.config, trainer.step_index, 0.0
-    if trainer.masks is not None:
+    if out.logits is not None:  # a step that renders identities (scenes with masks, every identity_every steps)
         classes = out.logits.shape[-1]
         loss = loss + cfg.identity_weight * pixel_cross_entropy(out.logits, trainer.masks[view]) / math.log(classes)
         if cfg.reg3d_every > 0 and step % cfg.reg3d_every == 0:
@@ -183,9 +183,9 @@ class Trainer:
         lr = self._means_lr(step)
         self.optimizers["means"].param_groups[0]["lr"] = lr
         view = self._next_view()
-        classifier = self.classifier if self.masks is not None else None
-        out = render(self.params, self.cameras[view], self.sh_degree, classifier=classifier,
-                     depth=self.objective.needs_depth)
+        identity = self.masks is not None and step % self.config.identity_every == 0
+        out = render(self.params, self.cameras[view], self.sh_degree, classifier=self.classifier if identity else None,
+                     depth=self.objective.needs_depth, identity=identity)
         target = self.images[view].float() / 255.0
         loss = self.objective(self, view, out, target)
         self.strategy.step_pre_backward(self.params, self.optimizers, self.strategy_state, step, out.info)
