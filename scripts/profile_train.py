@@ -33,16 +33,14 @@ from engine.train.trainer import Trainer  # noqa: E402
 
 
 def trainer_from_args(args: argparse.Namespace) -> Trainer:
-    if args.run:
-        run = Path(args.run)
-        config = TrainConfig(**json.loads(RunLayout(run).config_json.read_text()))
-    else:
+    if not args.run:
         config = TrainConfig(scene=args.scene, out="unused", max_gaussians=args.budget,
                              identity_every=args.identity_every).resolved()
-    if args.run:
-        config.steps = 10**9  # keep schedules where the checkpoint left them
+        return Trainer(config, load_scene(config.scene), pick_device(config.device))
+    config = TrainConfig(**json.loads(RunLayout(args.run).config_json.read_text()))
+    config.steps = 10**9  # keep schedules where the checkpoint left them
     trainer = Trainer(config, load_scene(config.scene), pick_device(config.device))
-    checkpoint = latest_checkpoint(Path(args.run)) if args.run else None
+    checkpoint = latest_checkpoint(Path(args.run))
     if checkpoint is not None:
         trainer.load_state_dict(torch.load(checkpoint, map_location="cpu", weights_only=False))
     return trainer

@@ -118,16 +118,16 @@ def render(gaussians: Gaussians, camera: CameraTensors, sh_degree: int, backend:
     means = gaussians["means"]
     backend = backend or default_backend(means.device)
     rgb = torch.clamp_min(sh_colors(gaussians, means.detach() - camera.center, sh_degree, backend) + 0.5, 0.0)
-    if not identity:
-        colors, alphas, info = rasterize(gaussians, rgb, camera, backend, depth)
-        return RenderOutput(rgb=colors[..., :3], depth=colors[..., -1] if depth else None, alpha=alphas[..., 0],
-                            identity=None, logits=None, info=info)
-    encoding = gaussians["identity"]
-    project_first = classifier is not None and classifier.out_features <= encoding.shape[-1]
-    features = torch.cat([rgb, encoding @ classifier.weight.T if project_first else encoding], dim=-1)
+    features, project_first = rgb, False
+    if identity:
+        encoding = gaussians["identity"]
+        project_first = classifier is not None and classifier.out_features <= encoding.shape[-1]
+        features = torch.cat([rgb, encoding @ classifier.weight.T if project_first else encoding], dim=-1)
     colors, alphas, info = rasterize(gaussians, features, camera, backend, depth)
     channels = colors[..., 3:-1] if depth else colors[..., 3:]
-    if project_first:
+    if not identity:
+        blended_identity, logits = None, None
+    elif project_first:
         blended_identity, logits = None, channels + classifier.bias
     else:
         blended_identity = channels

@@ -184,7 +184,7 @@ class Trainer:
         self.optimizers["means"].param_groups[0]["lr"] = lr
         view = self._next_view()
         identity = self.masks is not None and step % self.config.identity_every == 0
-        out = render(self.params, self.cameras[view], self.sh_degree, classifier=self.classifier if identity else None,
+        out = render(self.params, self.cameras[view], self.sh_degree, classifier=self.classifier,
                      depth=self.objective.needs_depth, identity=identity)
         target = self.images[view].float() / 255.0
         loss = self.objective(self, view, out, target)
