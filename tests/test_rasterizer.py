@@ -107,3 +107,17 @@ def test_class_logits_blended_directly_equal_classifying_the_blended_identity(cl
     torch.testing.assert_close(a, b, rtol=1e-4, atol=1e-5)
     torch.testing.assert_close(ga, gb, rtol=1e-4, atol=1e-6)
     torch.testing.assert_close(ma, mb, rtol=1e-3, atol=1e-5)
+
+
+def test_a_view_that_draws_nothing_still_gives_the_2d_means_a_zero_gradient():
+    """As gsplat's: DefaultStrategy reads info["means2d"].grad after every backward, also on a view where every
+    Gaussian is culled (here all behind the camera)."""
+    n = 5
+    means = torch.tensor([[0.0, 0.0, -5.0]] * n, requires_grad=True)
+    colors = torch.rand(n, 3, requires_grad=True)
+    K = torch.tensor([[20.0, 0, 8], [0, 20, 6], [0, 0, 1]])
+    image, alpha, info = rasterize_reference(means, torch.tensor([[1.0, 0, 0, 0]] * n), torch.full((n, 3), 0.1),
+                                             torch.full((n,), 0.5), colors, torch.eye(4), K, 16, 12)
+    info["means2d"].retain_grad()
+    (image.sum() + alpha.sum() + colors.sum()).backward()
+    assert info["means2d"].grad is not None and not info["means2d"].grad.any()

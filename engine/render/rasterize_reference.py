@@ -107,6 +107,9 @@ def rasterize_reference(means, quats, scales, opacities, colors, viewmat, K, wid
             weights = alpha * before * (transmit > 1e-4)
             out[y0:y1, x0:x1] = (weights @ features[ids]).reshape(y1 - y0, x1 - x0, -1)
             alpha_out[y0:y1, x0:x1] = weights.sum(dim=1).reshape(y1 - y0, x1 - x0)
+    # gsplat's 2D means always get a gradient (zero where nothing was drawn); a view this loop drew nothing of would
+    # otherwise leave none, and DefaultStrategy reads it after every backward
+    out = out + 0.0 * means2d.sum()
     alpha_out = alpha_out[..., None]
     depth = out[..., -1:] / alpha_out.clamp_min(1e-10)
     info = {"means2d": means2d, "radii": radii[None], "width": width, "height": height, "n_cameras": 1,
