@@ -18,6 +18,9 @@ from collections.abc import Iterator
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
+# what a worker on another node of a cluster would not inherit from this process: the engine's Python, the
+# weights' folders and model paths (SPLATFILL_*), and the inpainters' own model variables
+PASSED = ("LAMA_MODEL", "DIFFUSION_MODEL", "GEMINI_API_KEY")
 
 
 def _stages(scene: str, seed: int, work: str, args: argparse.Namespace):
@@ -59,7 +62,7 @@ def start(address: str) -> dict:
     import ray
 
     path = os.pathsep.join(p for p in (str(REPO), str(REPO / "scripts"), os.environ.get("PYTHONPATH", "")) if p)
-    env = {"PYTHONPATH": path, **{k: os.environ[k] for k in ("SPLATFILL_ENGINE_PYTHON",) if k in os.environ}}
+    env = {"PYTHONPATH": path, **{k: v for k, v in os.environ.items() if k in PASSED or k.startswith("SPLATFILL_")}}
     ray.init(address=address or None, runtime_env={"env_vars": env}, include_dashboard=False,
              logging_level="ERROR", log_to_driver=False)
     return {"num_gpus": 1} if ray.cluster_resources().get("GPU", 0) >= 1 else {"num_cpus": 1}

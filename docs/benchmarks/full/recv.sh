@@ -1,5 +1,6 @@
-# Issue 18's full table, seed 0 of the three families, on 4 GPUs (staged for the next session; nothing here has run
-# yet). Every call of the chain runs this: it takes whatever the call carries.
+# Issue 18's full table, seed 0 of the three families, on 4 GPUs. Every call of the chain runs this: it takes
+# whatever the call carries. Order run: A-F, start.sh, then G and H while the base runs train (cells that read
+# the FID weights start only after them).
 #   A: carry .whl .gsplat_build .bench/full1   (statue_s0, both parts)
 #   B: carry .bench/full2                      (livingroom_s0 both parts, tabletop_s0 3of3)
 #   C: carry .bench/full3                      (tabletop_s0 1of3, 2of3)
