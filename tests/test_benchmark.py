@@ -43,7 +43,7 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     svg = (tmp_path / "speed_accuracy.svg").read_text()
     assert svg.startswith("<svg") and svg.count("<circle") == 4  # 2 methods that finished x 2 panels
     chart = read_png(tmp_path / "speed_accuracy.png")  # the same items drawn by the engine
-    assert chart.shape[:2] == (2 * 340, 2 * 920) and (chart != 255).any()
+    assert chart.shape[:2] == (2 * (340 + 18 + 20), 2 * 920) and (chart != 255).any()  # one row, a legend line
     picture = read_png(tmp_path / "pictures" / f"{living_scene.name}.png")
     # region, effects, hole, GT, Init-fsr, FT-fsr(3)[l1] for the tiny scene's 96 px wide views
     assert picture.shape[1] == 6 * 96

@@ -152,6 +152,7 @@ def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | Non
     baseline = score_removed(job.original.scene, job.removed, scorer)
     name = job.method.title(config.inpainter, job.options)
     settings = {k: v for k, v in dataclasses.asdict(config).items() if k != "options"} | job.options
+    settings["steps"] = metrics.get("steps") or config.steps  # what it trained, where --steps 0 left it to the method
     report = {"method": name, "config": settings, "seconds": round(seconds, 1),
               "gaussians": metrics["gaussians"], "scores": scores.values, "unavailable": scores.unavailable,
               "removed_scores": baseline.values, "recolmap": colmap}

@@ -8,6 +8,6 @@ SPLATFILL_WEIGHTS=/tmp/weights RUNNER=full-table-has-no-runner bash docs/benchma
 # Ref has none), 48 frames around the removed object, written by `python -m engine turntable`
 export PYTHONPATH=/tmp/site:.; mkdir -p $OUT/mp4
 for d in /tmp/b/out/work/*/seed0/run; do n=$(basename $(dirname $(dirname $d))); [ -f $OUT/mp4/$n.mp4 ] && continue
-  after=$(ls $d/complete/Ref-exemplar/run/point_cloud.ply $d/complete/Init-exemplar/run/point_cloud.ply 2>/dev/null | head -1)
-  [ -n "$after" ] && python3 -m engine turntable --run $d --after $after --out /tmp/tt_$n --device cuda > /dev/null 2>&1 &&
+  after=""; for m in Ref-exemplar Init-exemplar; do [ -z "$after" ] && [ -f $d/complete/$m/run/point_cloud.ply ] && after=$d/complete/$m/run/point_cloud.ply; done  # (ls sorts its arguments: Init came first)
+  [ -n "$after" ] && python3 -m engine turntable --run $d --after $after --out /tmp/tt_$n --device cuda 2>&1 | tail -1 &&
     cp /tmp/tt_$n/turntable.mp4 $OUT/mp4/$n.mp4; done; ls -la $OUT/mp4

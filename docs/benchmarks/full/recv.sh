@@ -6,10 +6,13 @@
 #   C: carry .bench/full3                      (tabletop_s0 1of3, 2of3)
 #   D, E: carry .bench/ray1, then .bench/ray2  (Ray 2.60.0 and its dependencies: the benchmark's scheduler)
 #   F, G, H: carry .bench/fid1, fid2, fid3     (FID Inception and ST-LPIPS weights, into /tmp/weights)
+#   I: carry .bench/ff                         (imageio-ffmpeg 0.6.0, 29 MB: the FFmpeg the turntables' MP4s need;
+#                                               run 1 lacked it, so its MP4s were written in a call after the table)
 # each: `bash docs/benchmarks/full/recv.sh`; then `bash docs/benchmarks/full/start.sh`; then, until it is done,
 # `PERCEPTUAL=st-lpips METHODS="init reference ft3 ftall direct" INPAINTERS="telea exemplar" bash
 # docs/benchmarks/full/collect.sh 540` (it waits up to that many seconds, then packs what has finished).
 B=/tmp/b; mkdir -p $B/parts $B/scenes
+[ -d .bench/ff ] && python3 -m pip install -q --no-index --no-deps --no-compile --target /tmp/site .bench/ff/*.whl
 [ -d .whl ] && [ ! -d /tmp/site/gsplat ] && python3 -m pip install -q --no-index --no-deps --no-compile --target /tmp/site .whl/*.whl
 export PYTHONPATH=/tmp/site:.
 bash docs/benchmarks/train/speed/gsplat_cached.sh

@@ -16,7 +16,7 @@ cd $B/out && rm -rf pack sheets && mkdir pack sheets && for d in work/*/seed0/ru
   [ -f pictures/$n.png ] && python3 -c "import cv2,sys; i=cv2.imread(sys.argv[1]); cv2.imwrite(sys.argv[2], cv2.resize(i, None, fx=0.5, fy=0.5, interpolation=cv2.INTER_AREA))" pictures/$n.png sheets/$n/methods_half.png
   for c in $d/complete/*/; do m=$(basename "$c"); cp "$c/scores.json" "pack/$n/${m}_scores.json" 2>/dev/null; cp "$c/scene/reference_fill.json" "pack/$n/${m}_reference_fill.json" 2>/dev/null; done
 done 2>/dev/null
-tar czf $OUT/sheets.tgz sheets  # every scene's at once: four 640x480 scenes' full-size sheets passed 16 MiB each
+for n in $(ls sheets); do tar czf $OUT/sheets_$n.tgz sheets/$n; done  # one file a scene: three scenes' passed 16 MiB together
 tar czf $OUT/records.tgz pack results.json results.csv tables.md stability.md 2>/dev/null
 tar czf $OUT/logs.tgz -C $B $(cd $B; ls runner*.log log_* bench_*.log 2>/dev/null)
 for f in $OUT/*; do [ $(stat -c %s $f) -gt 16000000 ] && { echo "too big, dropped: $f"; rm $f; }; done; ls -la $OUT
