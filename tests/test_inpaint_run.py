@@ -330,3 +330,17 @@ def test_a_warm_init_starts_from_the_removed_scene_and_trains_a_tenth_of_the_ste
     with pytest.raises(InputError, match="choose one"):
         run_complete(CompleteConfig(method="init", out=str(tmp_path / "both"), options={"warm": True, "recolmap": True},
                                     **common))
+
+
+def test_a_later_reference_view_seeds_only_where_earlier_ones_left_space():
+    """FT(All)'s views see the same hole: the second view's points on the same surface add nothing, its
+    points past the first view's reach all stay, and the first view keeps every point of its own grid."""
+    from engine.complete.finetune import first_seen
+
+    u, v = np.meshgrid(np.arange(20) * 0.02, np.arange(20) * 0.02)
+    first = np.stack([u.ravel(), v.ravel(), np.zeros(u.size)], 1)  # a 20x20 grid, 0.02 apart
+    again = first[:100] + 0.003  # the same surface seen again, a fraction of a cell off
+    beyond = first[:50] + np.array([1.0, 0.0, 0.0])  # surface the first view did not reach
+    keep = first_seen([first, np.concatenate([again, beyond])], spacing=0.02)
+    assert keep[0].all()
+    assert keep[1][100:].all() and keep[1][:100].sum() <= 10  # grid-cell borders let a few through

