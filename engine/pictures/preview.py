@@ -37,9 +37,11 @@ def label(image: np.ndarray, text: str) -> np.ndarray:
     """A copy of `image` with `text` in its top-left corner."""
     out = image.copy()
     scale = max(out.shape[1] / 400, 0.35)
-    cv2.putText(out, text, (4, int(14 * scale) + 4), cv2.FONT_HERSHEY_SIMPLEX, scale, (0, 0, 0), 3, cv2.LINE_AA)
-    cv2.putText(out, text, (4, int(14 * scale) + 4), cv2.FONT_HERSHEY_SIMPLEX, scale, (255, 255, 255), 1,
-                cv2.LINE_AA)
+    thick = max(1, round(scale))  # strokes as wide as the letters are large
+    (_, height), _ = cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, scale, thick + 2)
+    origin = (4, height + 5)  # the text's baseline: its tallest letters end 5 px below the top, not above it
+    cv2.putText(out, text, origin, cv2.FONT_HERSHEY_SIMPLEX, scale, (0, 0, 0), thick + 2, cv2.LINE_AA)
+    cv2.putText(out, text, origin, cv2.FONT_HERSHEY_SIMPLEX, scale, (255, 255, 255), thick, cv2.LINE_AA)
     return out
 
 
