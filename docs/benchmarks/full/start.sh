@@ -6,5 +6,5 @@ export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(comma
 B=/tmp/b; [ -d $B/code ] || cp -r . $B/code
 python3 -c "from engine.render.rasterize import gsplat_rasterization as g; g()" || exit 1  # built once, before the tasks
 cd $B/code && setsid nohup python3 scripts/benchmark.py --scenes $(ls -d $B/scenes/*/) --methods init reference ft3 ftall \
-  direct --inpainters telea exemplar --seeds 0 --out $B/out --complete-steps 10000 --device cuda > $B/runner.log 2>&1 < /dev/null &
+  direct --inpainters telea exemplar --seeds ${SEED:-0} --out $B/out --complete-steps 10000 --device cuda > $B/runner.log 2>&1 < /dev/null &
 sleep 20; tail -5 $B/runner.log; nvidia-smi --query-gpu=index,utilization.gpu,memory.used --format=csv

@@ -6,8 +6,8 @@ B=/tmp/b; end=$(( $(date +%s) + $1 ))
 while pgrep -f "${RUNNER:-run9}/[r]unner.sh" > /dev/null && [ $(date +%s) -lt $end ]; do sleep 10; done
 cat $B/runner*.log; export PYTHONPATH=/tmp/site:. SPLATFILL_ENGINE_PYTHON=$(command -v python3)
 cd $B/code && python3 scripts/benchmark.py --scenes $(ls -d $B/scenes/*/ 2>/dev/null) --methods ${METHODS:-init reference} --inpainters ${INPAINTERS:-exemplar} \
-  --seeds 0 --out $B/out --perceptual ${PERCEPTUAL:-l1} --report-only > $B/report.log 2>&1; tail -2 $B/report.log
-cd $B/out && rm -rf pack sheets && mkdir pack sheets && for d in work/*/seed0/run; do n=$(basename $(dirname $(dirname $d))); mkdir -p pack/$n sheets/$n
+  --seeds ${SEED:-0} --out $B/out --perceptual ${PERCEPTUAL:-l1} --report-only > $B/report.log 2>&1; tail -2 $B/report.log
+cd $B/out && rm -rf pack sheets && mkdir pack sheets && for d in work/*/seed${SEED:-0}/run; do n=$(basename $(dirname $(dirname $d))); mkdir -p pack/$n sheets/$n
   cp $d/metrics.json $d/removed/removal.json $d/../stage_times.json $d/holes/holes.json $d/removed/effects/effects.json pack/$n/ 2>/dev/null
   for k in removed:removed/sheet.png holes:holes/sheet.png effects:removed/effects/sheet.png; do  # a third of their size
     python3 -c "import cv2,sys; i=cv2.imread(sys.argv[1]); cv2.imwrite(sys.argv[2], cv2.resize(i, None, fx=1/3, fy=1/3, interpolation=cv2.INTER_AREA))" $d/${k#*:} sheets/$n/${k%%:*}_sheet.png; done

@@ -1,0 +1,22 @@
+"""Join the records of benchmark runs made apart (each seed in its own device session) into one table:
+tables.md with each column's mean over seeds, stability.md with the spread and the failure table, and the
+chart, all from the records alone (nothing is run).
+
+    PYTHONPATH=.:scripts python docs/benchmarks/full/merge.py OUT run1/results.json run2/results.json
+    PYTHONPATH=. python -m engine chart --spec OUT/speed_accuracy.json --out OUT/speed_accuracy.png
+"""
+
+import json
+import sys
+from pathlib import Path
+
+from benchmark import write_results
+
+out = Path(sys.argv[1])
+out.mkdir(parents=True, exist_ok=True)
+cells = [cell for path in sys.argv[2:] for cell in json.loads(Path(path).read_text())]
+seen = {(c["scene"], c["seed"], c["method"]) for c in cells}
+if len(seen) != len(cells):
+    sys.exit("the records repeat a scene, seed and method: give each run's results.json once")
+write_results(cells, out)
+print(f"{len(cells)} cells -> {out / 'tables.md'}, {out / 'stability.md'}")
