@@ -46,6 +46,7 @@ from engine.edit.effects import (
     effect_weights,
     find_shadow,
     relight,
+    residual_gain,
 )
 from engine.edit.support_plane import Footprint, object_core, object_support
 from engine.formats.cameras import mean_up
@@ -207,6 +208,11 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
     search = find_shadow(remaining, core, plane, samples, config)
     if search.shadow is not None:
         remaining = relight(remaining, search.shadow)
+        after = _rerendered(run, remaining, after, device)
+        relit = Samples.from_views(cameras, [after[i].rgb for i in train], [after[i].depth for i in train],
+                                   [regions[i] for i in train])
+        search.shadow.residual = residual_gain(search.shadow, relit)
+        remaining = relight(remaining, dataclasses.replace(search.shadow, gain=search.shadow.residual))
         after = _rerendered(run, remaining, after, device)
     # the regions too: what the views saw under an overhang shows inside them in the removed renders
     shown = Samples.from_views(cameras, [after[i].rgb for i in train], [after[i].depth for i in train],
