@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -9,6 +10,7 @@ import pytest
 import torch
 from conftest import setup_weight
 
+from engine.base.errors import InputError
 from engine.edit.holes import HoleConfig, run_holes
 from engine.edit.removal import RemovalConfig, run_removal
 from engine.edit.support_plane import removal_plane, stop_at_plane
@@ -49,6 +51,37 @@ def test_fsr_fills_every_hole_and_passes_views_without_one_through(stages):
         # the depth fill stops at the plane the object stood on (nothing in the hole lies beyond it)
         np.testing.assert_allclose(stop_at_plane(camera, hole, depth, plane, 1e-4), depth)
     assert filled_any and (out / "sheet_train.png").is_file()
+
+
+def test_views_inpainted_at_once_give_what_one_after_the_other_gives(stages):
+    """Threads change when a view is filled, never what: the same images, depth and sheets (whose rows keep
+    view order although views finish in any order); a failing view stops the run and nothing is written."""
+    outs = {}
+    for workers in (1, 3):
+        outs[workers] = stages["work"] / f"telea_{workers}"
+        report = run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="telea", removed=str(stages["removed"]),
+                                           holes=str(stages["holes"]), out=str(outs[workers]), workers=workers))
+        assert report["workers"] == workers
+    for name in sorted(p.name for p in (outs[1] / "images").iterdir()):
+        assert (read_png(outs[1] / "images" / name) == read_png(outs[3] / "images" / name)).all()
+        a, b = (read_depth(outs[k] / "depth" / exr_name(name)) for k in (1, 3))
+        np.testing.assert_array_equal(a, b)
+    for sheet in ("sheet_train.png", "sheet_test.png"):
+        assert (outs[1] / sheet).is_file() == (outs[3] / sheet).is_file()
+        if (outs[1] / sheet).is_file():
+            assert (read_png(outs[1] / sheet) == read_png(outs[3] / sheet)).all()
+
+
+def test_a_corrupt_view_stops_a_threaded_inpainting_and_writes_nothing(stages, tmp_path):
+    removed = tmp_path / "removed"
+    shutil.copytree(stages["removed"], removed)
+    broken = sorted((removed / "images").iterdir())[2]
+    broken.write_bytes(b"not a png")
+    out = tmp_path / "telea"
+    with pytest.raises(InputError, match=broken.name):
+        run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="telea", removed=str(removed),
+                                  holes=str(stages["holes"]), out=str(out), workers=2))
+    assert not out.exists()
 
 
 def test_nanobanana_paints_the_input_images_with_the_paper_prompt_and_never_writes_the_key(stages, monkeypatch,

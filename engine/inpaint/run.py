@@ -12,11 +12,14 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import os
 import time
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import torch
 
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
@@ -50,6 +53,7 @@ class InpaintConfig:
     removed: str = ""  # default RUN/removed
     holes: str = ""  # default RUN/holes
     out: str = ""  # default RUN/inpainted/<inpainter>
+    workers: int = 0  # views inpainted at once (0: the cores, up to 8, where the inpainter allows it; else 1)
 
 
 def _inpainter(config: InpaintConfig):
@@ -76,35 +80,85 @@ def run_inpaint(config: InpaintConfig) -> dict:
     scene = load_run_scene(root)
     plane = None if direct else removal_plane(removed)
     prompt = config.prompt or inpainter.default_prompt(scene.root)
-    sheets: dict[str, list[np.ndarray]] = {"test": [], "train": []}
-    seconds = 0.0
+    sheets = _SheetRows(scene.test)
+    workers = _workers(config, inpainter)
+    start = time.perf_counter()
     with atomic_output_dir(out) as tmp_root:
         tmp = InpaintedLayout(tmp_root)
-        progress = Progress(f"inpaint {config.inpainter}", len(scene.cameras))
-        for i, camera in enumerate(scene.cameras):
-            start = time.perf_counter()
+
+        def one(i: int) -> np.ndarray | None:
+            camera = scene.cameras[i]
             if not direct:
-                row = _fill_hole(inpainter, config, prompt, scene.images[i], camera, plane, removed, holes, tmp)
-            else:  # the direct baseline: the object painted out of the input image (its region), RGB only
-                region = (dilate(_direct_region(removed, camera.name), config.dilate)
-                          if inpainter.uses_mask else None)
-                filled = inpainter.inpaint(scene.images[i], region, "rgb", prompt)
-                write_png(tmp.images / camera.name, filled)
-                row = np.concatenate([label(scene.images[i], f"{camera.name} input"), label(filled, "inpainted")], 1)
-            seconds += time.perf_counter() - start
-            split = "test" if i in scene.test else "train"
-            if row is not None and len(sheets[split]) < SHEET_ROWS:
-                sheets[split].append(row)
-            progress.update(i + 1)
+                return _fill_hole(inpainter, config, prompt, scene.images[i], camera, plane, removed, holes, tmp)
+            # the direct baseline: the object painted out of the input image (its region), RGB only
+            region = dilate(_direct_region(removed, camera.name), config.dilate) if inpainter.uses_mask else None
+            filled = inpainter.inpaint(scene.images[i], region, "rgb", prompt)
+            write_png(tmp.images / camera.name, filled)
+            return np.concatenate([label(scene.images[i], f"{camera.name} input"), label(filled, "inpainted")], 1)
+
+        progress = Progress(f"inpaint {config.inpainter}", len(scene.cameras))
+        for done, (i, row) in enumerate(_each_view(one, len(scene.cameras), workers), start=1):
+            sheets.add(i, row)
+            progress.update(done)
         progress.close()
-        for split, rows in sheets.items():
+        seconds = time.perf_counter() - start
+        for split, rows in sheets.rows().items():
             if rows:
                 write_png(tmp.sheet_of(split), np.concatenate(rows, axis=0))
         report = {"config": dataclasses.asdict(config), "prompt": prompt, "views": len(scene.cameras),
-                  "inpaint_seconds": round(seconds, 2)}
+                  "inpaint_seconds": round(seconds, 2), "workers": workers}
         tmp.config_json.write_text(json.dumps(report, indent=1))
     emit("done", stage="inpaint", out=str(out), seconds=report["inpaint_seconds"])
     return report
+
+
+def _workers(config: InpaintConfig, inpainter) -> int:
+    """Views inpainted at once: --workers, else as many as there are cores (8 at most) where the inpainter
+    allows it (Inpainter.parallel_views), else one."""
+    if config.workers > 0:
+        return config.workers
+    return min(os.cpu_count() or 1, 8) if inpainter.parallel_views() else 1
+
+
+def _each_view(fill, count: int, workers: int):
+    """(view index, its sheet row) for every view, in the order they finish: one after the other, or `workers`
+    threads at once, with torch kept to one thread each meanwhile (a view's small ops cannot use more, and
+    threads of threads only contend). A failing view stops the rest and its error propagates."""
+    if workers <= 1:
+        yield from ((i, fill(i)) for i in range(count))
+        return
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    try:
+        with ThreadPoolExecutor(workers) as pool:
+            futures = {pool.submit(fill, i): i for i in range(count)}
+            try:
+                for future in as_completed(futures):
+                    yield futures[future], future.result()
+            finally:  # an error or a cancel: start no more views
+                for future in futures:
+                    future.cancel()
+    finally:
+        torch.set_num_threads(threads)
+
+
+class _SheetRows:
+    """The contact sheets' rows: the first SHEET_ROWS views with a hole of each split, in view order, kept
+    while views finish in any order (only those that can still make the sheet are held)."""
+
+    def __init__(self, test: list[int]) -> None:
+        self.test, self.held = set(test), {"test": {}, "train": {}}
+
+    def add(self, i: int, row: np.ndarray | None) -> None:
+        if row is None:
+            return
+        held = self.held["test" if i in self.test else "train"]
+        held[i] = row
+        for extra in sorted(held)[SHEET_ROWS:]:
+            del held[extra]
+
+    def rows(self) -> dict[str, list[np.ndarray]]:
+        return {split: [held[i] for i in sorted(held)] for split, held in self.held.items()}
 
 
 def _direct_region(removed: RemovedLayout, name: str) -> np.ndarray:

@@ -138,5 +138,11 @@ def _best_source(sources: torch.Tensor, squares: torch.Tensor, target: np.ndarra
 @register("exemplar")
 class Exemplar(Inpainter):
     summary = "exemplar-based texture synthesis (Criminisi 2004), ours, in torch"
+
+    def parallel_views(self) -> bool:
+        """On the CPU its patch search is many small torch ops, which one view cannot spread over cores (two
+        views in two threads: 1.98x one after the other at 640x480, docs/BENCHMARKS.md); on a GPU, unmeasured."""
+        return not torch.cuda.is_available()
+
     def inpaint_rgb(self, image, mask, prompt):
         return exemplar_fill(image, mask)

@@ -13,15 +13,22 @@ from engine.inpaint.registry import Inpainter, register
 RADIUS = 5  # px of neighbourhood Telea and Navier-Stokes look at
 
 
+class OpenCvInpainter(Inpainter):
+    """OpenCV's inpainters run in C++ without Python's lock, so a run's views can go at once."""
+
+    def parallel_views(self) -> bool:
+        return True
+
+
 @register("telea")
-class Telea(Inpainter):
+class Telea(OpenCvInpainter):
     summary = "OpenCV Telea: smooth fill from the hole's border"
     def inpaint_rgb(self, image, mask, prompt):
         return cv2.inpaint(image, mask.astype(np.uint8), RADIUS, cv2.INPAINT_TELEA)
 
 
 @register("navier-stokes")
-class NavierStokes(Inpainter):
+class NavierStokes(OpenCvInpainter):
     summary = "OpenCV Navier-Stokes: smooth fill along isophotes"
     def inpaint_rgb(self, image, mask, prompt):
         return cv2.inpaint(image, mask.astype(np.uint8), RADIUS, cv2.INPAINT_NS)
@@ -36,7 +43,7 @@ def _xphoto(image: np.ndarray, mask: np.ndarray, method: int) -> np.ndarray:
 
 
 @register("fsr")
-class FrequencySelective(Inpainter):
+class FrequencySelective(OpenCvInpainter):
     summary = "OpenCV xphoto frequency-selective reconstruction"
     needs = Needs(packages=("opencv-contrib",))
     def inpaint_rgb(self, image, mask, prompt):
@@ -44,7 +51,7 @@ class FrequencySelective(Inpainter):
 
 
 @register("shiftmap")
-class ShiftMap(Inpainter):
+class ShiftMap(OpenCvInpainter):
     summary = "OpenCV xphoto shift-map: texture synthesis by copying patches"
     needs = Needs(packages=("opencv-contrib",))
     def inpaint_rgb(self, image, mask, prompt):
