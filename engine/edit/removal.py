@@ -201,27 +201,29 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
                   device) -> tuple[dict, list, _Effects]:
     """Relight the object's cast shadow, then the darkening under and beside it, each judged by the views'
     renders of the scene as it stands; the relit Gaussians and their renders (depth unchanged)."""
-    scene, train, config = run.scene, run.scene.train, EffectsConfig()
-    cameras = [scene.cameras[i] for i in train]
-    samples = Samples.from_views(cameras, [after[i].rgb for i in train], [after[i].depth for i in train],
-                                 [regions[i] for i in train])
-    search = find_shadow(remaining, core, plane, samples, config)
+    scene, config = run.scene, EffectsConfig()
+    search = find_shadow(remaining, core, plane, _train_samples(scene, after, regions), config)
     if search.shadow is not None:
         remaining = relight(remaining, search.shadow)
         after = _rerendered(run, remaining, after, device)
-        relit = Samples.from_views(cameras, [after[i].rgb for i in train], [after[i].depth for i in train],
-                                   [regions[i] for i in train])
-        search.shadow.residual = residual_gain(search.shadow, relit)
+        search.shadow.residual = residual_gain(search.shadow, _train_samples(scene, after, regions))
         remaining = relight(remaining, dataclasses.replace(search.shadow, gain=search.shadow.residual))
         after = _rerendered(run, remaining, after, device)
     # the regions too: what the views saw under an overhang shows inside them in the removed renders
-    shown = Samples.from_views(cameras, [after[i].rgb for i in train], [after[i].depth for i in train],
-                               [np.zeros_like(regions[i]) for i in train])
+    shown = _train_samples(scene, after, [np.zeros_like(region) for region in regions])
     contact = find_contact_shade(remaining, core, plane, shown, config)
     if contact is not None:
         remaining = brighten(remaining, contact.shaded, contact.gains)
         after = _rerendered(run, remaining, after, device)
     return remaining, after, _Effects(search, contact)
+
+
+def _train_samples(scene, after: list, masks: list[np.ndarray]) -> Samples:
+    """The training views' surface samples of the renders `after` (one per view of the scene), outside `masks`;
+    the same views, depth and masks give the same samples in the same order (residual_gain relies on it)."""
+    train = scene.train
+    return Samples.from_views([scene.cameras[i] for i in train], [after[i].rgb for i in train],
+                              [after[i].depth for i in train], [masks[i] for i in train])
 
 
 def _rerendered(run: TrainedRun, gaussians, after: list, device) -> list:
