@@ -184,7 +184,7 @@ class SPLATFILL_OT_hole_masks(EngineOperator, bpy.types.Operator):
         removed = Path(self._collection["splatfill_removed"])
         self._out = removed.parent / f"holes-{removed.name}"
         return ["holes", "--run", self._collection["splatfill_run"], "--removed", str(removed), "--out",
-                str(self._out), "--device", device]
+                str(self._out)]
 
     def finish(self, context, records):
         self._collection["splatfill_holes"] = str(self._out)

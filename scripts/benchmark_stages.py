@@ -61,7 +61,7 @@ class Stages:
         self.train()
         target = _target(self.scene)
         self.stage("remove", self.run.removed.root, ["remove", "--run", run, "--object", target, *device])
-        self.stage("holes", self.run.holes.root, ["holes", "--run", run, *device])
+        self.stage("holes", self.run.holes.root, ["holes", "--run", run])
 
     def inpaint(self, inpainter: str, source: str) -> None:
         self.stage(_inpaint_key(inpainter, source), self.run.inpainted(inpainter, source).root,

@@ -324,7 +324,7 @@ def test_a_tiny_statue_run_finds_its_shadow_and_its_holes(statue_scene, tmp_path
     effects = run_removal(RemovalConfig(run=str(run), object="statue", device="cpu"))["effects"]
     assert effects["shadow"] is not None and effects["views_scored"] >= 5, effects
     assert effects["recall"] >= 0.6 and effects["precision"] >= 0.5, effects
-    holes = run_holes(HoleConfig(run=str(run), device="cpu"))
+    holes = run_holes(HoleConfig(run=str(run)))
     assert holes["mean_unseen_iou_vs_truth"] >= 0.6, holes
 
 

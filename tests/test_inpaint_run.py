@@ -27,7 +27,7 @@ def stages(tiny_run: Path, tmp_path_factory) -> dict[str, Path]:
     work = tmp_path_factory.mktemp("inpaint")
     removed, holes = work / "removed", work / "holes"
     run_removal(RemovalConfig(run=str(tiny_run), object="plush", out=str(removed), device="cpu"))
-    run_holes(HoleConfig(run=str(tiny_run), removed=str(removed), out=str(holes), device="cpu"))
+    run_holes(HoleConfig(run=str(tiny_run), removed=str(removed), out=str(holes)))
     return {"run": tiny_run, "removed": removed, "holes": holes, "work": work}
 
 

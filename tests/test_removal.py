@@ -67,13 +67,13 @@ def test_holes_follow_the_scenes_true_holes(tiny_run: Path, removed, tmp_path: P
     object's pixels. The tiny runs' geometry is too rough for more: the whole object mask scores 0.41 here,
     while on the GPU runs the depth-guided holes reach 0.86 on statue (docs/BENCHMARKS.md)."""
     out, _ = removed
-    unseen = run_holes(HoleConfig(run=str(tiny_run), removed=str(out), out=str(tmp_path / "holes"), device="cpu",
+    unseen = run_holes(HoleConfig(run=str(tiny_run), removed=str(out), out=str(tmp_path / "holes"),
                                   see_through=False))
     assert unseen["views_scored"] == 8
     assert unseen["mean_iou_vs_truth"] > 0.15
     assert 0.05 < unseen["hole_to_region"] < 0.9  # smaller than the object, as 3DGIC's masks are
     assert unseen["mean_unseen_iou_vs_truth"] == unseen["mean_iou_vs_truth"]  # nothing else marked
-    report = run_holes(HoleConfig(run=str(tiny_run), removed=str(out), out=str(tmp_path / "holes_st"), device="cpu"))
+    report = run_holes(HoleConfig(run=str(tiny_run), removed=str(out), out=str(tmp_path / "holes_st")))
     views, more = unseen["views"], report["views"]  # the default also marks what the render sees through
     assert [v["hole_px"] + v["see_through_px"] for v in views] == [v["hole_px"] for v in more]
     assert report["mean_unseen_iou_vs_truth"] == unseen["mean_iou_vs_truth"]

@@ -1,25 +1,31 @@
 """Stage 3: depth-guided hole masks (3DGIC's idea, without the published code's two bugs).
 
 For each view, the candidate pixels are the removed object's region (removed/masks). Each is lifted to the
-surface the *removed* scene renders there (removed/depth) and tested against every training view's
-*original* rendered depth: the point counts as seen when it lies in front of the view (z > 0), inside its
-frame, not behind the surface that view saw (within a relative tolerance), and not inside that view's
-object region (3DGIC's background-only source pixels): where the object touches its support the depths
+surface the *removed* scene renders there (removed/depth) and tested against every training view: the point
+counts as seen when it lies in front of the view (z > 0), inside its frame, not behind the surface that view
+shows once the object is gone (removed/depth of that view, within a relative tolerance), and not inside that
+view's object region (3DGIC's background-only source pixels): where the object touches its support the depths
 of the two differ by less than any tolerance, so the masks decide. A pixel no view sees is hole. This is
 backward warping (engine.io.visibility, the test the scene generator uses for its exact holes/, there without
-masks): no forward-splatting pinholes, no last-write-wins,
-and the depth compared is the point's z in the testing view, not the source view's depth value. Pixels
-where the removed scene renders no surface (alpha below 0.5: the unseen underside of the object was never
-reconstructed) are hole as well; the generator's exact test counts them as seen, since for it an
-infinite depth is open sky.
+masks): no forward-splatting pinholes, no last-write-wins, and the depth compared is the point's z in the
+testing view, not the source view's depth value. Pixels where the removed scene renders no surface (alpha
+below 0.5: the unseen underside of the object was never reconstructed) are hole as well; the generator's exact
+test counts them as seen, since for it an infinite depth is open sky.
+
+Why the training views' depth is the removed scene's and not the whole scene's: outside the object's masks a
+view shows the background, but a render of the whole scene spreads the object's Gaussians a pixel or two past
+its silhouette and across thin gaps (the tabletop toy's body over the mat between its tracks), so the mat seen
+through the gap failed the depth test. Measured at 640x480/100 views on six base runs (two per family): unseen
+IoU tabletop 0.81/0.80 -> 0.87/0.88, livingroom 0.89/0.91 -> 0.91/0.91, statue 0.95/0.95 unchanged
+(docs/BENCHMARKS.md, "Hole masks against the removed scene's depth"). It also spares a render of every view.
 
 Before warping, rays of the object's region that the removed render lets through the support (the table
 under the object was never built, so the render shows its underside, which side views saw) are stopped at
 the support plane the removal fitted to the Gaussians around the object (engine.edit.support_plane; fitted to
-rendered depth where removal.json has none). Depths are the rendered surface's (engine.render.surface_depth),
-each pixel taking the farthest within a pixel per 320 of image width (a render blurs silhouettes nearer: a
-point seen through the gap under a toy failed the depth test), and the tolerance grows beyond the object's
-depth (engine.io.visibility).
+rendered depth where removal.json has none). Each training view's depth takes the farthest within a pixel per
+640 of image width outside the object's region (a render blurs other silhouettes nearer; inside the region the
+removed scene looks through to what lay behind, which must not spread), and the tolerance grows beyond the
+object's depth (engine.io.visibility).
 
 By default the masks also take what the render shows wrongly under the object, so that the inpainters fill it
 rather than the completions learning it (`see_through`): rays the plane stopped whose point on it lies inside the
@@ -39,25 +45,31 @@ from pathlib import Path
 
 import numpy as np
 
-from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
 from engine.edit.removal import RemovalConfig
-from engine.edit.support_plane import off_support, removal_footprint, removal_plane, stop_at_plane, support_plane
-from engine.formats.cameras import Camera, backproject, mean_up, pixel_grid
-from engine.formats.layout import HolesLayout, RemovedLayout
+from engine.edit.support_plane import (
+    Footprint,
+    off_support,
+    removal_footprint,
+    removal_plane,
+    stop_at_plane,
+    support_plane,
+)
+from engine.formats.cameras import Camera, backproject, mean_up, pixel_grid, project
+from engine.formats.layout import HolesLayout, RemovedLayout, RunLayout
 from engine.io.image_io import exr_name, read_depth, read_png, write_png
 from engine.io.masks import dilate
 from engine.io.visibility import DEFAULT_REL_TOL, farthest_nearby, inside_visual_hull, unseen_mask
 from engine.pictures.preview import label, overlay
-from engine.render.render_views import render_depths
-from engine.train.trained_run import load_run
+from engine.train.trained_run import load_run_scene
 
-# A trained render's silhouettes are blurred by about a pixel at 320x240 (measured there: reading the farthest
-# depth within 1 px raised the hole IoU on three families, 2 px about the same), so one pixel per 320 of width.
-# Below 320 none: on the tiny 96x72 CPU runs one pixel took a third of the holes (IoU 0.213 -> 0.197).
-BLUR_PX_PER_WIDTH = 320
+# A trained render's silhouettes are blurred by about a pixel. Against the removed scene's depth (the object's own
+# silhouette gone), at 640x480 one pixel outside the object's region measured best: livingroom 0.906/0.908 with
+# none, 0.909/0.910 with one, 0.874/0.882 with two; tabletop s1 0.867, 0.876, 0.876. So one pixel per 640 of width,
+# none below (the whole scene's depth had wanted one per 320; on 96x72 CPU runs a pixel took a third of the holes).
+BLUR_PX_PER_WIDTH = 640
 HULL_DILATE_PX, HULL_SHARE = RemovalConfig.hull_dilate, RemovalConfig.hull_share  # see-through's hull: removal's
 
 
@@ -82,7 +94,6 @@ class HoleConfig:
     # views saw it: under the livingroom plush's overhang). CPU livingroom 160x120: Init-exemplar m-PSNR
     # 20.84 -> 23.15 dB, marking 31 px a view; docs/BENCHMARKS.md.
     off_support_tol: float = 0.02
-    device: str = "auto"
 
 
 def _under_object(camera: Camera, stopped: np.ndarray, depth: np.ndarray, cameras: list[Camera],
@@ -104,44 +115,52 @@ def iou(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.logical_and(a, b).sum() / union) if union else 1.0
 
 
-def _object_depth(depths: list[np.ndarray], regions: list[np.ndarray]) -> float | None:
-    """The median depth of the object in the training views: up to it the depth test's tolerance is
-    rel_tol, beyond it that grows with depth (engine.io.visibility.seen_by_any)."""
+def _object_depth(cameras: list[Camera], footprint: Footprint | None, depths: list[np.ndarray],
+                  regions: list[np.ndarray]) -> float | None:
+    """The object's median depth in the training views: up to it the depth test's tolerance is rel_tol,
+    beyond it that grows with depth (engine.io.visibility.seen_by_any). Its footprint's centre where `remove`
+    found one (4-9% beyond the whole scene's rendered depth over the object's region, which holes used to render,
+    and the same unseen IoU to 0.001 on all six 640x480 base runs measured), else the removed scene's depth
+    there, which lies behind the object and so errs tight."""
+    if footprint is not None:
+        return float(np.median([project(camera, footprint.centre[None])[2][0] for camera in cameras]))
     values = np.concatenate([d[r & np.isfinite(d)] for d, r in zip(depths, regions, strict=True)])
     return float(np.median(values)) if values.size else None
 
 
 def run_holes(config: HoleConfig) -> dict:
-    run = load_run(config.run, config.scene or None)
-    removed = RemovedLayout(config.removed) if config.removed else run.layout.removed
-    out = Path(config.out) if config.out else run.layout.holes.root
+    scene, layout = load_run_scene(config.run, config.scene or None), RunLayout(config.run)
+    removed = RemovedLayout(config.removed) if config.removed else layout.removed
+    out = Path(config.out) if config.out else layout.holes.root
     if not removed.report.is_file():
-        raise InputError(f"{removed.report} missing: run `python -m engine remove --run {run.root} ...` first")
-    scene, device = run.scene, pick_device(config.device)
+        raise InputError(f"{removed.report} missing: run `python -m engine remove --run {config.run} ...` first")
     train_cameras = [scene.cameras[i] for i in scene.train]
-    seen_depths = render_depths(run.gaussians, train_cameras, run.sh_degree, device, "holes: original depth")
     regions = [read_png(removed.masks / camera.name, "mask", camera.size) > 0 for camera in scene.cameras]
+    train_regions = [regions[i] for i in scene.train]
+    # what each training view shows once the object is gone (remove rendered every view)
+    seen_depths = [read_depth(removed.depth / exr_name(camera.name)) for camera in train_cameras]
+    train_depth = dict(zip(scene.train, seen_depths, strict=True))
     up = mean_up(np.stack([c.R for c in scene.cameras]))
-    plane = (removal_plane(removed) or support_plane(train_cameras, [regions[i] for i in scene.train],
-                                                      seen_depths, config.rel_tol, up)
+    plane = (removal_plane(removed) or support_plane(train_cameras, train_regions, seen_depths, config.rel_tol, up)
              if config.support_plane else None)
-    near = _object_depth(seen_depths, [regions[i] for i in scene.train])
-    # what each view saw, its silhouettes' blur undone (the object's own region is the masks' business)
-    seen_surfaces = [farthest_nearby(depth, camera.width // BLUR_PX_PER_WIDTH)
-                     for depth, camera in zip(seen_depths, train_cameras, strict=True)]
+    footprint = removal_footprint(removed)
+    near = _object_depth(train_cameras, footprint, seen_depths, train_regions)
+    # their silhouettes' blur undone, outside the object's region (the masks' business)
+    seen_surfaces = [farthest_nearby(depth, camera.width // BLUR_PX_PER_WIDTH, region)
+                     for depth, camera, region in zip(seen_depths, train_cameras, train_regions, strict=True)]
     # the object's region in each training view: it hid whatever lies behind it there
     occluders = [dilate(regions[i], round(config.occluder_margin * np.hypot(scene.cameras[i].width,
                                                                          scene.cameras[i].height)))
                  for i in scene.train]
     hull_masks = [dilate(regions[i], HULL_DILATE_PX) for i in scene.train]
-    footprint = removal_footprint(removed) if plane is not None else None
+    footprint = footprint if plane is not None else None
     views, sheet = [], []
     with atomic_output_dir(out) as tmp_root:
         tmp = HolesLayout(tmp_root)
         progress = Progress("holes", len(scene.cameras))
         for i, camera in enumerate(scene.cameras):
             region = regions[i]
-            rendered = read_depth(removed.depth / exr_name(camera.name))
+            rendered = train_depth[i] if i in train_depth else read_depth(removed.depth / exr_name(camera.name))
             background = rendered if plane is None else stop_at_plane(camera, region, rendered, plane, config.rel_tol)
             # where the removed scene renders no surface at all, nothing is there to show: hole
             unseen = unseen_mask(camera, region, background, train_cameras, seen_surfaces, config.rel_tol,

@@ -27,13 +27,19 @@ def exact_tolerance(cameras: list[Camera]) -> float:
     return min(DEFAULT_REL_TOL, 2.0 / focal)
 
 
-def farthest_nearby(depth: np.ndarray, pixels: int = 1) -> np.ndarray:
+def farthest_nearby(depth: np.ndarray, pixels: int = 1, exclude: np.ndarray | None = None) -> np.ndarray:
     """`depth` (H, W) with each pixel's farthest depth within `pixels` (inf is farthest), for rendered depth.
 
     A render blends an object's edge into the pixels beside it, nearer than the surface they show, so a
     point seen just past an edge (through the gap under a toy, beside a plush's overhang) fails the depth
-    test. Exact depth has no such blur: the scene generator's holes/ test it as it is."""
-    return cv2.dilate(depth.astype(np.float32), np.ones((2 * pixels + 1, 2 * pixels + 1), np.uint8))
+    test. Exact depth has no such blur: the scene generator's holes/ test it as it is. `exclude` (bool, H, W):
+    pixels that lend their depth to none of their neighbours and keep their own (the removed object's region,
+    where a render of the scene without it looks through to whatever lay behind)."""
+    source = depth.astype(np.float32)
+    if exclude is not None:
+        source = np.where(exclude, np.float32(0), source)
+    out = cv2.dilate(source, np.ones((2 * pixels + 1, 2 * pixels + 1), np.uint8))
+    return np.where(exclude, depth, out).astype(np.float32) if exclude is not None else out
 
 
 def seen_by_any(points: np.ndarray, cameras: list[Camera], depths: list[np.ndarray],

@@ -56,9 +56,10 @@ def _read_run(root: Path, scene: Path | str | None) -> tuple[TrainConfig, int, P
     return config, steps, scene_dir
 
 
-def load_run_scene(root: Path | str) -> Scene:
-    """Only the scene of run folder `root`, for stages that read its files but not its Gaussians."""
-    config, _, scene_dir = _read_run(Path(root), None)
+def load_run_scene(root: Path | str, scene: Path | str | None = None) -> Scene:
+    """Only the scene of run folder `root` (`scene` overrides the folder its config.json names), for stages that
+    read its files but not its Gaussians."""
+    config, _, scene_dir = _read_run(Path(root), scene)
     layout = RunLayout(root)
     return _scene_with_segments(load_scene(scene_dir, config.resolution), layout, _segments(layout))
 
