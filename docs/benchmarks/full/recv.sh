@@ -9,8 +9,10 @@
 #   I: carry .bench/ff                         (imageio-ffmpeg 0.6.0, 29 MB: the FFmpeg the turntables' MP4s need;
 #                                               run 1 lacked it, so its MP4s were written in a call after the table)
 # Seed 1 (the benchmark's training seed, on the same scenes): the same chain with SEED=1 before start.sh and
-# collect.sh; then, here, `docs/benchmarks/full/merge.py` joins run1's and its results.json into one table with
-# the spread over seeds. Run 1's tree plus call A came within 0.4 MB of a call's 64 MiB: keep A as it is.
+# collect.sh; then, here, `docs/benchmarks/full/merge.py` joins two runs' results.json into one table with the
+# spread over seeds. Run 1 (seed 0) predates FT's one-seeding (a55afa5), the residual relighting (bf3966a) and the
+# hole masks against the removed scene's depth (ec8c485): the two seeds of the table must both run at or after the
+# last of these, so seed 0 runs again too. Run 1's tree plus call A came within 0.4 MB of a call's 64 MiB: keep A as it is.
 # each: `bash docs/benchmarks/full/recv.sh`; then `bash docs/benchmarks/full/start.sh`; then, until it is done,
 # `PERCEPTUAL=st-lpips METHODS="init reference ft3 ftall direct" INPAINTERS="telea exemplar" bash
 # docs/benchmarks/full/collect.sh 540` (it waits up to that many seconds, then packs what has finished).
