@@ -92,7 +92,8 @@ def _panel_at_top(points: list[tuple[str, float, float]], label: str, left: int,
     xs = [math.log10(max(p[1], 1e-3)) for p in points]
     ys = [p[2] for p in points]
     x0, x1 = min(xs) - 0.1, max(xs) + 0.1
-    y0, y1 = min(ys + [unfilled] * (unfilled is not None)) - 0.5, max(ys + [unfilled] * (unfilled is not None)) + 0.5
+    reach = ys + ([unfilled] if unfilled is not None else [])  # the unfilled line stays inside the panel
+    y0, y1 = min(reach) - 0.5, max(reach) + 0.5
 
     def at(x: float, y: float) -> tuple[float, float]:
         return (left + MARGIN + (x - x0) / (x1 - x0) * (WIDTH - 2 * MARGIN),

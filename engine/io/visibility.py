@@ -35,11 +35,11 @@ def farthest_nearby(depth: np.ndarray, pixels: int = 1, exclude: np.ndarray | No
     test. Exact depth has no such blur: the scene generator's holes/ test it as it is. `exclude` (bool, H, W):
     pixels that lend their depth to none of their neighbours and keep their own (the removed object's region,
     where a render of the scene without it looks through to whatever lay behind)."""
-    source = depth.astype(np.float32)
-    if exclude is not None:
-        source = np.where(exclude, np.float32(0), source)
-    out = cv2.dilate(source, np.ones((2 * pixels + 1, 2 * pixels + 1), np.uint8))
-    return np.where(exclude, depth, out).astype(np.float32) if exclude is not None else out
+    kernel = np.ones((2 * pixels + 1, 2 * pixels + 1), np.uint8)
+    if exclude is None:
+        return cv2.dilate(depth.astype(np.float32), kernel)
+    farthest = cv2.dilate(np.where(exclude, 0, depth).astype(np.float32), kernel)
+    return np.where(exclude, depth, farthest).astype(np.float32)
 
 
 def seen_by_any(points: np.ndarray, cameras: list[Camera], depths: list[np.ndarray],

@@ -15,7 +15,6 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from engine.edit.holes import _object_depth
 from engine.edit.removal import RemovalConfig, keep, select
 from engine.io.image_io import exr_name, read_depth, read_png
 from engine.render.render_views import render_depths
@@ -40,7 +39,9 @@ def main(run_dir: str, out: str) -> None:
     depths_device = torch.device(sys.argv[3] if len(sys.argv) > 3 else "cuda")
     depths = render_depths(run.gaussians, cams, run.sh_degree, depths_device, "dump")
     regions = [read_png(layout.removed.masks / c.name, "mask", c.size) > 0 for c in scene.cameras]
-    near = _object_depth(depths, [regions[i] for i in scene.train])
+    # the object's median rendered depth, as holes computed its `near` when the dumps were made
+    seen = [d[regions[i] & np.isfinite(d)] for d, i in zip(depths, scene.train, strict=True)]
+    near = float(np.median(np.concatenate(seen)))
     target = next(o.name for o in scene.objects if o.target)
     gone = keep(run.gaussians, ~select(run, RemovalConfig(run=run_dir, object=target))[0])
     gone_depths = render_depths(gone, cams, run.sh_degree, depths_device, "dump: the object alone")
