@@ -1,9 +1,10 @@
 # Issue 18's full table, seed 0 of the three families, on 4 GPUs. Every call of the chain runs this: it takes
 # whatever the call carries. Order run: A-F, start.sh, then G and H while the base runs train (cells that read
 # the FID weights start only after them).
-#   A: carry .whl .gsplat_build .bench/full1   (statue_s0, both parts)
+#   A: carry .whl .bench/full1                 (statue_s0, both parts)
 #   B: carry .bench/full2                      (livingroom_s0 both parts, tabletop_s0 3of3)
-#   C: carry .bench/full3                      (tabletop_s0 1of3, 2of3)
+#   C: carry .bench/full3 .gsplat_build        (tabletop_s0 1of3, 2of3; gsplat's build moved here in run 2: with
+#                                               the tree at 22.2 MB, A with it came within 50 KB of 64 MiB)
 #   D, E: carry .bench/ray1, then .bench/ray2  (Ray 2.60.0 and its dependencies: the benchmark's scheduler)
 #   F, G, H: carry .bench/fid1, fid2, fid3     (FID Inception and ST-LPIPS weights, into /tmp/weights)
 #   I: carry .bench/ff                         (imageio-ffmpeg 0.6.0, 29 MB: the FFmpeg the turntables' MP4s need;
@@ -12,7 +13,8 @@
 # collect.sh; then, here, `docs/benchmarks/full/merge.py` joins two runs' results.json into one table with the
 # spread over seeds. Run 1 (seed 0) predates FT's one-seeding (a55afa5), the residual relighting (bf3966a) and the
 # hole masks against the removed scene's depth (ec8c485): the two seeds of the table must both run at or after the
-# last of these, so seed 0 runs again too. Run 1's tree plus call A came within 0.4 MB of a call's 64 MiB: keep A as it is.
+# last of these, so seed 0 runs again too: run 2 (docs/benchmarks/full/run2) is seed 0 at 3ea2410; seed 1 must run at
+# the same code as far as removal, holes, inpainting and completion go, or both run again.
 # each: `bash docs/benchmarks/full/recv.sh`; then `bash docs/benchmarks/full/start.sh`; then, until it is done,
 # `PERCEPTUAL=st-lpips METHODS="init reference ft3 ftall direct" INPAINTERS="telea exemplar" bash
 # docs/benchmarks/full/collect.sh 540` (it waits up to that many seconds, then packs what has finished).
