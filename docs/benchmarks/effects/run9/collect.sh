@@ -11,8 +11,11 @@ cd $B/out && rm -rf pack sheets && mkdir pack sheets && for d in work/*/seed${SE
   cp $d/metrics.json $d/removed/removal.json $d/../stage_times.json $d/holes/holes.json $d/removed/effects/effects.json pack/$n/ 2>/dev/null
   for k in removed:removed/sheet.png holes:holes/sheet.png effects:removed/effects/sheet.png; do  # a third of their size
     python3 -c "import cv2,sys; i=cv2.imread(sys.argv[1]); cv2.imwrite(sys.argv[2], cv2.resize(i, None, fx=1/3, fy=1/3, interpolation=cv2.INTER_AREA))" $d/${k#*:} sheets/$n/${k%%:*}_sheet.png; done
-  mkdir -p pack/$n/holes pack/$n/unseen pack/$n/effects; for v in $(python3 -c "import json,sys; print(*json.load(open(sys.argv[1]))['test'])" $B/scenes/$n/split.json); do
+  PYTHONPATH=/tmp/site:$B/code python3 $B/code/docs/benchmarks/effects/run15/breakdown.py $B/scenes/$n $d/removed > pack/$n/breakdown.txt  # where the error outside the true hole sits
+  mkdir -p pack/$n/holes pack/$n/unseen pack/$n/effects sheets/$n/removed; for v in $(python3 -c "import json,sys; print(*json.load(open(sys.argv[1]))['test'])" $B/scenes/$n/split.json); do
     cp $d/holes/$v pack/$n/holes/; cp $d/holes/unseen/$v pack/$n/unseen/ 2>/dev/null; cp $d/removed/effects/$v pack/$n/effects/; done  # the test views' masks: all 100 would pass 16 MiB
+  for v in $(python3 -c "import json,sys; print(*json.load(open(sys.argv[1]))['test'][:5])" $B/scenes/$n/split.json); do
+    cp $d/removed/images/$v sheets/$n/removed/; done  # five removed test views at full size (2-2.5 MB), for breakdown.py here
   [ -f pictures/$n.png ] && python3 -c "import cv2,sys; i=cv2.imread(sys.argv[1]); cv2.imwrite(sys.argv[2], cv2.resize(i, None, fx=0.5, fy=0.5, interpolation=cv2.INTER_AREA))" pictures/$n.png sheets/$n/methods_half.png
   for c in $d/complete/*/; do m=$(basename "$c"); cp "$c/scores.json" "pack/$n/${m}_scores.json" 2>/dev/null; cp "$c/scene/reference_fill.json" "pack/$n/${m}_reference_fill.json" 2>/dev/null; done
 done 2>/dev/null
