@@ -141,6 +141,45 @@ def test_no_darkening_is_claimed_under_an_object_that_cast_none():
                               EffectsConfig()) is None
 
 
+def crater_scene():
+    """overhang_scene's striped floor and ball, undarkened, with the floor under one half of the ball sunk 0.06
+    below its plane and dark (what grazing views build there) and under the other half on the plane as it was
+    (what views saw well). Returns the floor, its lit and seen colours, the ball's points and which are sunk."""
+    floor, lit, _, ball = overhang_scene(darken=1.0)
+    sunk = (np.linalg.norm(floor[:, :2], axis=1) < 0.25) & (floor[:, 0] < 0)
+    floor, seen = floor.copy(), lit.copy()
+    floor[sunk, 2], seen[sunk] = -0.06, 0.15
+    return floor, lit, seen, ball, sunk
+
+
+def crater_underside(floor: np.ndarray, seen: np.ndarray, ball: np.ndarray, config: EffectsConfig):
+    from engine.edit.underside import find_underside
+
+    up = np.array([0.0, 0.0, 1.0])
+    core = object_core(gaussians(ball, np.full((len(ball), 3), 0.9)), up)
+    return find_underside(gaussians(floor, seen), core, object_support(floor, core, up), config)
+
+
+def test_the_crater_under_an_overhang_takes_the_colour_of_the_support_around_it_the_plane_keeps_its_own():
+    from engine.edit.underside import paint
+
+    floor, lit, seen, ball, sunk = crater_scene()
+    found = crater_underside(floor, seen, ball, EffectsConfig())
+    assert found is not None and np.array_equal(found.painted, sunk)
+    assert np.all(found.colour >= lit.min(0) - 1e-6) and np.all(found.colour <= lit.max(0) + 1e-6)
+    after = colors_of(paint(gaussians(floor, seen), found))
+    assert np.allclose(after[sunk], found.colour, atol=1e-5)
+    assert np.allclose(after[~sunk], seen[~sunk], atol=1e-5)  # on the plane, striped under the ball as before
+    assert found.weight.min() == 1.0  # far darker than the support around: the effect masks take it
+
+
+def test_nothing_is_repainted_where_the_support_under_the_object_lies_on_its_plane_or_when_switched_off():
+    floor, lit, _, ball = overhang_scene(darken=1.0)
+    assert crater_underside(floor, lit, ball, EffectsConfig()) is None
+    floor, _, seen, ball, _ = crater_scene()
+    assert crater_underside(floor, seen, ball, EffectsConfig(underside_reach=0.0)) is None
+
+
 def front_camera() -> Camera:
     return Camera(name="c.png", width=40, height=30, fx=40.0, fy=40.0, cx=20.0, cy=15.0, R=np.eye(3),
                   t=np.zeros(3))

@@ -15,7 +15,8 @@ revealed part of the object's region that other views saw: remnants of the objec
 contact sheet.
 
 With `effects` (the default) what the object did around itself goes too: its cast shadow (engine.edit.effects),
-then the darkening under and beside it (engine.edit.contact_shade). The Gaussians in them are relit before
+then the darkening under and beside it (engine.edit.contact_shade), then the crater grazing views built under it
+(engine.edit.underside, repainted). The Gaussians in them are relit before
 anything is rendered, so removed/ and every later stage see the scene without them, and removed/effects/
 holds each view's effect mask (255 = relit), effects.json (light direction, gains, why no shadow was found,
 recall and precision against the scene's effects/ where it has them) and a contact sheet. The plane the
@@ -49,6 +50,7 @@ from engine.edit.effects import (
     residual_gain,
 )
 from engine.edit.support_plane import Footprint, object_core, object_support
+from engine.edit.underside import Underside, find_underside, paint
 from engine.formats.cameras import mean_up
 from engine.formats.layout import EffectsLayout, RemovedLayout
 from engine.io.extent import inside_box
@@ -183,24 +185,27 @@ def run_removal(config: RemovalConfig) -> dict:
 
 @dataclass
 class _Effects:
-    """What `remove` found the object did around itself and undid: its cast shadow (or why none) and the
-    darkening under and beside it."""
+    """What `remove` found the object did around itself and undid: its cast shadow (or why none), the
+    darkening under and beside it, and the crater under it."""
 
     search: ShadowSearch
     contact: ContactShade | None
+    underside: Underside | None
 
     def weights(self) -> np.ndarray | None:
         """(N,) per remaining Gaussian, the share of an effect it carries; None where nothing was found."""
-        shadow, contact = self.search.shadow, self.contact
+        shadow, contact, under = self.search.shadow, self.contact, self.underside
         parts = ([effect_weights(shadow.shadowed, shadow.darkness)] if shadow else []) + \
-            ([effect_weights(contact.shaded, contact.weight)] if contact else [])
+            ([effect_weights(contact.shaded, contact.weight)] if contact else []) + \
+            ([effect_weights(under.painted, under.weight)] if under else [])
         return np.maximum.reduce(parts) if parts else None
 
 
 def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: list[np.ndarray], after: list,
                   device) -> tuple[dict, list, _Effects]:
     """Relight the object's cast shadow, then the darkening under and beside it, each judged by the views'
-    renders of the scene as it stands; the relit Gaussians and their renders (depth unchanged)."""
+    renders of the scene as it stands, then repaint the crater under it in the relit support's colour; the
+    changed Gaussians and their renders (depth unchanged)."""
     scene, config = run.scene, EffectsConfig()
     search = find_shadow(remaining, core, plane, _train_samples(scene, after, regions), config)
     if search.shadow is not None:
@@ -215,7 +220,11 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
     if contact is not None:
         remaining = brighten(remaining, contact.shaded, contact.gains)
         after = _rerendered(run, remaining, after, device)
-    return remaining, after, _Effects(search, contact)
+    underside = find_underside(remaining, core, plane, config)
+    if underside is not None:
+        remaining = paint(remaining, underside)
+        after = _rerendered(run, remaining, after, device)
+    return remaining, after, _Effects(search, contact, underside)
 
 
 def _train_samples(scene, after: list, masks: list[np.ndarray]) -> Samples:
@@ -234,10 +243,11 @@ def _rerendered(run: TrainedRun, gaussians, after: list, device) -> list:
 
 def _write_effects(out: EffectsLayout, scene, gaussians, effects: _Effects, regions: list[np.ndarray],
                    after: list, device) -> dict:
-    """removed/effects: each view's effect mask (the relit shadow and darkening), effects.json (with what the
-    shadow search weighed, and recall and precision over every view the scene has exact effects for: the
-    masks are a 3D estimate drawn into each view, and the truth comes from gt/, which nothing here reads;
-    the benchmark's scenes have it for their test views only) and a contact sheet (an empty mask per view
+    """removed/effects: each view's effect mask (the relit shadow and darkening, the repainted crater where it
+    was darker), effects.json (with what the shadow search weighed, and recall and precision over every view
+    the scene has exact effects for: the masks are a 3D estimate drawn into each view, and the truth comes
+    from gt/, which nothing here reads; the benchmark's scenes have it for their test views only) and a
+    contact sheet (an empty mask per view
     where nothing was found, so later stages need not ask)."""
     weights = effects.weights()
     recall, precision, sheet = [], [], []
@@ -267,6 +277,7 @@ def _write_effects(out: EffectsLayout, scene, gaussians, effects: _Effects, regi
     shadow = effects.search.shadow
     report = {"shadow": shadow.report() if shadow else None, "search": effects.search.report(),
               "contact": effects.contact.report() if effects.contact else None,
+              "underside": effects.underside.report() if effects.underside else None,
               "recall": float(np.mean(recall)) if recall else None,
               "precision": float(np.mean(precision)) if precision else None, "views_scored": len(recall)}
     out.report.write_text(json.dumps(report, indent=1))
