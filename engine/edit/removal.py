@@ -16,9 +16,9 @@ contact sheet.
 
 With `effects` (the default) what the object did around itself goes too: its cast shadow (engine.edit.effects),
 then the darkening under and beside it (engine.edit.contact_shade), then the crater grazing views built under it
-(engine.edit.underside, repainted). The Gaussians in them are relit before
+(engine.edit.underside). The Gaussians in them are relit (the crater repainted) before
 anything is rendered, so removed/ and every later stage see the scene without them, and removed/effects/
-holds each view's effect mask (255 = relit), effects.json (light direction, gains, why no shadow was found,
+holds each view's effect mask (255 = relit or repainted), effects.json (light direction, gains, why no shadow was found,
 recall and precision against the scene's effects/ where it has them) and a contact sheet. The plane the
 object stood on, fitted to the remaining Gaussians, goes into removal.json for the hole masks.
 """
