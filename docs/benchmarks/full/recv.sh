@@ -14,8 +14,9 @@
 # spread over seeds. Run 1 (seed 0) predates FT's one-seeding (a55afa5), the residual relighting (bf3966a) and the
 # hole masks against the removed scene's depth (ec8c485): the two seeds of the table must both run at or after the
 # last of these, so seed 0 runs again too: run 2 (docs/benchmarks/full/run2) is seed 0 at 3ea2410; seed 1 must run at
-# the same code as far as removal, holes, inpainting and completion go, or both run again. 5b8b9dd changed removal
-# (the crater under an overhang repainted), so both seeds run again at or after it, one device session each.
+# the same code as far as training, removal, holes, inpainting and completion go, or both run again. 5b8b9dd changed
+# removal (the crater under an overhang repainted) and 5fd697d training (identities every 4th step), so both seeds
+# run again at or after 5fd697d, one device session each.
 # each: `bash docs/benchmarks/full/recv.sh`; then `bash docs/benchmarks/full/start.sh`; then, until it is done,
 # `PERCEPTUAL=st-lpips METHODS="init reference ft3 ftall direct" INPAINTERS="telea exemplar" bash
 # docs/benchmarks/full/collect.sh 540` (it waits up to that many seconds, then packs what has finished).
