@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from engine.edit.effects import LUMA, EffectsConfig, Samples
+from engine.edit.effects import LUMA, EffectsConfig, Samples, darker_share
 from engine.edit.plane_grid import Site
 from engine.io.gaussians import Gaussians
 from engine.io.masks import dilate
@@ -70,7 +70,7 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     local = _window_mean(grid.size, ij, log_c, np.ones(len(ij), bool), 2 * window + 1)
     reference = _window_mean(grid.size, ij, log_c, beyond[ij[:, 0], ij[:, 1]], 2 * (2 * grow + window) + 1)
     darker = (reference - local) @ LUMA / LUMA.sum()
-    weight = np.where(zone & np.isfinite(darker), np.clip((darker - 0.5 * min_contrast) / min_contrast, 0, 1), 0.0)
+    weight = np.where(zone & np.isfinite(darker), darker_share(darker, min_contrast), 0.0)
     if not (weight > 0.5).any():
         return None
     gain = np.exp(weight[..., None] * np.nan_to_num(reference - local))

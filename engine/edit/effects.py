@@ -227,6 +227,12 @@ def _missing_light(inside: np.ndarray, log_y: np.ndarray, darker: float) -> floa
     return float(2 * dark.sum() - dark.size)
 
 
+def darker_share(darker: np.ndarray, min_contrast: float) -> np.ndarray:
+    """How much of an effect a surface `darker` (log-luminance) than its lit reference carries, for the effect
+    masks: 0 up to half of `min_contrast`, rising to 1 over one `min_contrast`, so a mask's edge leaves no seam."""
+    return np.clip((darker - 0.5 * min_contrast) / min_contrast, 0.0, 1.0)
+
+
 def relight(gaussians: Gaussians, shadow: Shadow) -> Gaussians:
     """The Gaussians with each shadowed one's radiance multiplied by 1 + darkness (gain - 1)."""
     return brighten(gaussians, shadow.shadowed, 1.0 + shadow.darkness[:, None] * (shadow.gain[None] - 1.0))

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from engine.edit.effects import LUMA, EffectsConfig, colors_of
+from engine.edit.effects import LUMA, EffectsConfig, colors_of, darker_share
 from engine.edit.plane_grid import Site
 from engine.formats.splat_ply import SH_C0
 from engine.io.gaussians import Gaussians
@@ -63,8 +63,7 @@ def find_underside(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarra
     colors = colors_of(remaining)
     colour = np.median(colors[ring], axis=0)
     darker = np.log(colour @ LUMA + 1e-3) - np.log(colors[painted] @ LUMA + 1e-3)
-    weight = np.clip((darker - 0.5 * config.min_contrast) / config.min_contrast, 0.0, 1.0)
-    return Underside(painted=painted, colour=colour, weight=weight)
+    return Underside(painted=painted, colour=colour, weight=darker_share(darker, config.min_contrast))
 
 
 def paint(gaussians: Gaussians, underside: Underside) -> Gaussians:
