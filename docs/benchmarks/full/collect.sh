@@ -7,6 +7,7 @@ SPLATFILL_WEIGHTS=/tmp/weights RUNNER=full-table-has-no-runner bash docs/benchma
 # one before | after MP4 per scene (issue 18, item 4): the base run against Ref-exemplar's completed scene (Init's where
 # Ref has none), 48 frames around the removed object, written by `python -m engine turntable`
 export PYTHONPATH=/tmp/site:.; mkdir -p $OUT/mp4
+python3 -c 'import imageio_ffmpeg' 2>/dev/null || { echo 'no imageio-ffmpeg (carry .bench/ff): no MP4'; exit 0; }
 for d in /tmp/b/out/work/*/seed${SEED:-0}/run; do n=$(basename $(dirname $(dirname $d))); [ -f $OUT/mp4/$n.mp4 ] && continue
   after=""; for m in Ref-exemplar Init-exemplar; do [ -z "$after" ] && [ -f $d/complete/$m/run/point_cloud.ply ] && after=$d/complete/$m/run/point_cloud.ply; done  # (ls sorts its arguments: Init came first)
   [ -n "$after" ] && python3 -m engine turntable --run $d --after $after --out /tmp/tt_$n --device cuda 2>&1 | tail -1 &&

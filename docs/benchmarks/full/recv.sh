@@ -28,5 +28,5 @@ bash docs/benchmarks/train/speed/gsplat_cached.sh
 for d in .bench/full*; do [ -d $d ] && cp $d/* $B/parts/; done
 python3 docs/benchmarks/effects/run8/unpack.py $B/parts $B/scenes
 { [ -d .bench/ray1 ] || [ -d .bench/ray2 ]; } && bash docs/benchmarks/ray/install.sh
-{ [ -d .bench/fid1 ] || [ -d .bench/fid2 ] || [ -d .bench/fid3 ]; } && bash docs/benchmarks/ray/weights.sh
+ls .bench/*/fid.pth.part0* > /dev/null 2>&1 && bash docs/benchmarks/ray/weights.sh
 ls $B/scenes /tmp/weights 2>/dev/null; du -sh $B/parts

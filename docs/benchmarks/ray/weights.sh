@@ -4,7 +4,7 @@
 #   calls 1-3 (carry .bench/fidN):  bash docs/benchmarks/ray/weights.sh
 # Then SPLATFILL_WEIGHTS=/tmp/weights fills the FID, KID and ST-LPIPS columns there.
 W=/tmp/weights; mkdir -p $W
-cp .bench/fid[123]/* $W/ 2>/dev/null
+cp .bench/*/fid.pth.part0* .bench/*/alex_shift_tolerant.pth .bench/*/weights.sha256 $W/ 2>/dev/null  # from whichever carried folder holds them
 if [ -f $W/fid.pth.part00 ] && [ -f $W/fid.pth.part01 ] && [ -f $W/fid.pth.part02 ]; then
   cat $W/fid.pth.part0[012] > $W/fid.tmp && mv $W/fid.tmp $W/fid_inception_fid_helper.pth && rm $W/fid.pth.part0*  # whole or absent: cells may be reading
   (cd $W && sha256sum -c weights.sha256) || exit 1
