@@ -4,8 +4,9 @@ Why Ray: a scene's matrix is about five full trainings, and cells of different s
 independent once their shared stages are done; run one after another they leave every GPU but one idle (and
 two at once on one GPU measured slower than one after the other). The dependency graph per scene and seed:
 one `base` task (train, remove, holes), then one `inpaint` task per inpainter and source, then one task per
-cell; each asks Ray for a whole GPU (a CPU where the cluster has none), and Ray sets CUDA_VISIBLE_DEVICES, so the
-engine processes a task starts see only its GPU. The tasks call the same Stages and run_cell as the serial path,
+cell; training tasks ask Ray for all but a sliver of a GPU and inpainting tasks for that sliver (a CPU each where
+the cluster has none: `task_resources`), and Ray sets CUDA_VISIBLE_DEVICES, so the engine processes a task starts
+see only its GPU. The tasks call the same Stages and run_cell as the serial path,
 so work on disk is skipped the same way and an interrupted run resumes; a failed stage fails its cells with its
 one-line reason, as serially. Workers find this folder and the repository through PYTHONPATH.
 """
@@ -57,15 +58,31 @@ def cell_task(failed: str, scene: str, seed: int, inpainter: str, method: str, w
     return run_cell(_stages(scene, seed, work, args), method, inpainter, args, failed=failed)
 
 
-def start(address: str) -> dict:
-    """Connect to (or start) Ray with workers that import this folder; the resources each task asks for."""
+# the share of a GPU an inpainting task asks for; training tasks (base runs, cells) ask for the rest. Inpainting is
+# CPU work (OpenCV) or a patch search of many small kernels (exemplar, 150-159 s on 100 views for the direct
+# baseline on an H100, run 3), so a whole GPU for it kept the cells waiting: in run 3 the first cell started
+# about 200 s after the base runs. With these shares one inpainting runs beside one training on a GPU (any
+# number of inpaintings beside each other), and two trainings never share one.
+INPAINT_GPU_SHARE = 0.01
+
+
+def task_resources(gpus: float) -> dict[str, dict]:
+    """What each kind of task asks Ray for on a cluster with `gpus` GPUs: a GPU for training stages, a small share
+    of one for inpainting (so Ray still gives it a GPU of its own node to see), a CPU each where there are none."""
+    if gpus < 1:
+        return {"train": {"num_cpus": 1}, "inpaint": {"num_cpus": 1}}
+    return {"train": {"num_gpus": 1 - INPAINT_GPU_SHARE}, "inpaint": {"num_gpus": INPAINT_GPU_SHARE}}
+
+
+def start(address: str) -> dict[str, dict]:
+    """Connect to (or start) Ray with workers that import this folder; the resources each kind of task asks for."""
     import ray
 
     path = os.pathsep.join(p for p in (str(REPO), str(REPO / "scripts"), os.environ.get("PYTHONPATH", "")) if p)
     env = {"PYTHONPATH": path, **{k: v for k, v in os.environ.items() if k in PASSED or k.startswith("SPLATFILL_")}}
     ray.init(address=address or None, runtime_env={"env_vars": env}, include_dashboard=False,
              logging_level="ERROR", log_to_driver=False)
-    return {"num_gpus": 1} if ray.cluster_resources().get("GPU", 0) >= 1 else {"num_cpus": 1}
+    return task_resources(ray.cluster_resources().get("GPU", 0))
 
 
 def run_cells(matrix: list[tuple[Path, int, str, str]], sources: dict[str, str], work: Path,
@@ -77,7 +94,8 @@ def run_cells(matrix: list[tuple[Path, int, str, str]], sources: dict[str, str],
     resources = start(args.ray_address)
     # no retries: a stage half done by a worker that died is not safe to start again in the same folder (the
     # engine refuses); run the benchmark again instead, which resumes from what is on disk
-    base, inpaint, cell = (ray.remote(max_retries=0, **resources)(f) for f in (base_task, inpaint_task, cell_task))
+    base, inpaint, cell = (ray.remote(max_retries=0, **resources[kind])(f)
+                           for f, kind in ((base_task, "train"), (inpaint_task, "inpaint"), (cell_task, "train")))
     bases, inpaints, pending = {}, {}, {}
     for k, (scene, seed, inpainter, method) in enumerate(matrix):
         key = (str(scene), seed)

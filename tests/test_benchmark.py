@@ -60,3 +60,17 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     table = (tmp_path / "tables.md").read_text()
     assert "| Init-fsr |" in table and "## Cells not run" in table and "seed 1 Init-fsr" in table
     assert "| Init-fsr | 1/2 |" in (tmp_path / "stability.md").read_text()
+
+
+def test_an_inpainting_task_shares_a_gpu_with_one_training_task_and_two_trainings_never_share():
+    """Ray packs tasks onto a GPU while their shares add up to at most one (in units of 1e-4)."""
+    sys.path.insert(0, str(REPO / "scripts"))
+    from benchmark_ray import task_resources
+
+    def units(kind: dict) -> int:
+        return round(kind["num_gpus"] * 10_000)
+
+    on_gpus = task_resources(2)
+    train, inpaint = units(on_gpus["train"]), units(on_gpus["inpaint"])
+    assert train + inpaint <= 10_000 and 2 * train > 10_000 and inpaint > 0
+    assert task_resources(0) == {"train": {"num_cpus": 1}, "inpaint": {"num_cpus": 1}}
