@@ -58,12 +58,21 @@ def cell_task(failed: str, scene: str, seed: int, inpainter: str, method: str, w
     return run_cell(_stages(scene, seed, work, args), method, inpainter, args, failed=failed)
 
 
-# the share of a GPU an inpainting task asks for; training tasks (base runs, cells) ask for the rest. Inpainting is
-# CPU work (OpenCV) or a patch search of many small kernels (exemplar, 150-159 s on 100 views for the direct
-# baseline on an H100, run 3), so a whole GPU for it kept the cells waiting: in run 3 the first cell started
-# about 200 s after the base runs. With these shares one inpainting runs beside one training on a GPU (any
-# number of inpaintings beside each other), and two trainings never share one.
+# the share of a GPU a light inpainting task asks for; training tasks (base runs, cells) ask for the rest. The
+# inpainters without model weights are CPU work (OpenCV) or a patch search of many small kernels (exemplar,
+# 150-159 s on 100 views for the direct baseline on an H100, run 3), so a whole GPU for them kept the cells
+# waiting: in run 3 the first cell started about 200 s after the base runs. With these shares such an inpainting
+# runs beside one training on a GPU, and two trainings never share one. Model inpainters (LaMa, diffusion) ask
+# for a training's share, as a training would.
 INPAINT_GPU_SHARE = 0.01
+
+
+def light(inpainter: str) -> bool:
+    """Whether an inpainter may share a GPU with a training: it loads no model weights and needs no GPU."""
+    from engine.inpaint.registry import classes
+
+    kind = classes().get(inpainter)  # an unknown name fails in its task, with the engine's message
+    return kind is not None and not kind.needs.weights and not kind.needs.gpu
 
 
 def task_resources(gpus: float) -> dict[str, dict]:
@@ -94,8 +103,8 @@ def run_cells(matrix: list[tuple[Path, int, str, str]], sources: dict[str, str],
     resources = start(args.ray_address)
     # no retries: a stage half done by a worker that died is not safe to start again in the same folder (the
     # engine refuses); run the benchmark again instead, which resumes from what is on disk
-    base, inpaint, cell = (ray.remote(max_retries=0, **resources[kind])(f)
-                           for f, kind in ((base_task, "train"), (inpaint_task, "inpaint"), (cell_task, "train")))
+    base, inpaint, heavy, cell = (ray.remote(max_retries=0, **resources[kind])(f) for f, kind in (
+        (base_task, "train"), (inpaint_task, "inpaint"), (inpaint_task, "train"), (cell_task, "train")))
     bases, inpaints, pending = {}, {}, {}
     for k, (scene, seed, inpainter, method) in enumerate(matrix):
         key = (str(scene), seed)
@@ -103,7 +112,7 @@ def run_cells(matrix: list[tuple[Path, int, str, str]], sources: dict[str, str],
             bases[key] = base.remote(*key, str(work), args)
         step = (*key, inpainter, sources[method])
         if step not in inpaints:
-            inpaints[step] = inpaint.remote(bases[key], *step, str(work), args)
+            inpaints[step] = (inpaint if light(inpainter) else heavy).remote(bases[key], *step, str(work), args)
         pending[cell.remote(inpaints[step], *key, inpainter, method, str(work), args)] = k
     try:
         while pending:

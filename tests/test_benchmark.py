@@ -74,3 +74,11 @@ def test_an_inpainting_task_shares_a_gpu_with_one_training_task_and_two_training
     train, inpaint = units(on_gpus["train"]), units(on_gpus["inpaint"])
     assert train + inpaint <= 10_000 and 2 * train > 10_000 and inpaint > 0
     assert task_resources(0) == {"train": {"num_cpus": 1}, "inpaint": {"num_cpus": 1}}
+
+
+def test_model_inpainters_take_a_gpu_of_their_own_and_the_light_ones_share():
+    sys.path.insert(0, str(REPO / "scripts"))
+    from benchmark_ray import light
+
+    assert light("telea") and light("exemplar") and light("fsr")
+    assert not light("lama") and not light("diffusion") and not light("no-such-inpainter")
