@@ -4,7 +4,7 @@
 B=/tmp/b; end=$(( $(date +%s) + $1 ))
 while pgrep -f "[s]cripts/benchmark.py --scenes" > /dev/null && [ $(date +%s) -lt $end ]; do sleep 10; done
 export PYTHONPATH=/tmp/site:$B/code; tail -3 $B/r16_*.log; P=/tmp/r16; rm -rf $P
-for s in livingroom_s0 statue_s0; do d=$B/out16_$s/work/$s/seed0; mkdir -p $P/$s; obj=$(python3 -c "import json,sys; print([o['name'] for o in json.load(open(sys.argv[1])) if o.get('target')][0])" $B/scenes/$s/masks/objects.json)
+for s in ${SCENES:-livingroom_s0 statue_s0}; do d=$B/out16_$s/work/$s/seed0; mkdir -p $P/$s; obj=$(python3 -c "import json,sys; print([o['name'] for o in json.load(open(sys.argv[1])) if o.get('target')][0])" $B/scenes/$s/masks/objects.json)
   [ -f $d/run/removed/removal.json ] && [ ! -f $d/overshoot.txt ] && python3 $B/code/docs/benchmarks/effects/run16/overshoot.py $d/run $obj --device cuda > $d/overshoot.txt 2>&1
   cp $d/overshoot.txt $d/stage_times.json $d/run/metrics.json $d/run/removed/removal.json $d/run/removed/effects/effects.json $P/$s/ 2>/dev/null
   for c in $d/run/complete/*/; do cp "$c/scores.json" "$P/$s/$(basename "$c")_scores.json" 2>/dev/null; done
