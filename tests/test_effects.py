@@ -152,12 +152,13 @@ def crater_scene():
     return floor, lit, seen, ball, sunk
 
 
-def crater_underside(floor: np.ndarray, seen: np.ndarray, ball: np.ndarray, config: EffectsConfig):
+def crater_underside(floor: np.ndarray, seen: np.ndarray, ball: np.ndarray, config: EffectsConfig,
+                     others: np.ndarray | None = None):
     from engine.edit.underside import find_underside
 
     up = np.array([0.0, 0.0, 1.0])
     core = object_core(gaussians(ball, np.full((len(ball), 3), 0.9)), up)
-    return find_underside(gaussians(floor, seen), core, object_support(floor, core, up), config)
+    return find_underside(gaussians(floor, seen), core, object_support(floor, core, up), config, others)
 
 
 def test_the_crater_under_an_overhang_takes_the_colour_of_the_support_around_it_the_plane_keeps_its_own():
@@ -171,6 +172,29 @@ def test_the_crater_under_an_overhang_takes_the_colour_of_the_support_around_it_
     assert np.allclose(after[sunk], found.colour, atol=1e-5)
     assert np.allclose(after[~sunk], seen[~sunk], atol=1e-5)  # on the plane, striped under the ball as before
     assert found.weight.min() == 1.0  # far darker than the support around: the effect masks take it
+
+
+def test_other_objects_bases_keep_their_own_colours_in_the_contact_shade_and_the_crater():
+    """Another object stands in the darkened ring beside the ball, its base dark (its own colour and contact
+    shadow), and part of the sunk crater under the ball belongs to it by identity: neither is brightened or
+    repainted as the removed object's effect, while the support around them is."""
+    from engine.edit.contact_shade import find_contact_shade
+
+    floor, lit, seen, ball = overhang_scene(darken=0.5)
+    r = np.linalg.norm(floor[:, :2], axis=1)
+    base = (np.abs(floor[:, 0] - 0.5) < 0.05) & (np.abs(floor[:, 1]) < 0.05)  # in the zone, 0.45-0.55 out
+    seen = np.where(base[:, None], 0.1, seen)
+    up = np.array([0.0, 0.0, 1.0])
+    core = object_core(gaussians(ball, np.full((len(ball), 3), 0.9)), up)
+    plane = object_support(floor, core, up)
+    shade = find_contact_shade(gaussians(floor, seen), core, plane, Samples(floor, seen), EffectsConfig(), others=base)
+    assert shade is not None and not shade.shaded[base].any()
+    assert shade.shaded[(r < 0.6) & ~base].mean() > 0.9  # the support beside it is relit as before
+
+    floor, lit, seen, ball, sunk = crater_scene()
+    theirs = sunk & (floor[:, 1] > 0)
+    found = crater_underside(floor, seen, ball, EffectsConfig(), others=theirs)
+    assert found is not None and np.array_equal(found.painted, sunk & ~theirs)
 
 
 def test_nothing_is_repainted_where_the_support_under_the_object_lies_on_its_plane_or_when_switched_off():

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from engine.edit.effects import LUMA, EffectsConfig, Samples, darker_share
+from engine.edit.effects import LUMA, EffectsConfig, Samples, darker_share, support_only
 from engine.edit.plane_grid import Site
 from engine.io.gaussians import Gaussians
 from engine.io.masks import dilate
@@ -49,11 +49,11 @@ class ContactShade:
 
 def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, float] | None,
                        shown: Samples, config: EffectsConfig, window: int = 2,
-                       most: float = 3.0) -> ContactShade | None:
+                       most: float = 3.0, others: np.ndarray | None = None) -> ContactShade | None:
     """The darkening under and beside the object (core centres `obj`) on `plane`, read off what the views
     `shown` of the support (the removed scene's renders, its object regions included, since what the views
     saw under an overhang shows there); None where nothing is darker than around it. A cell's gain is at
-    most `most`."""
+    most `most`. Other objects' Gaussians (`others`) are never brightened."""
     if plane is None or len(obj) < 20:
         return None
     site = Site.of(obj, plane)
@@ -77,7 +77,7 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     gain = np.clip(cv2.blur(gain.astype(np.float32), (3, 3)), 1.0, most)
     weight = cv2.blur(weight.astype(np.float32), (3, 3))
     means = remaining["means"].numpy()
-    shaded = site.near_plane(means, band_below, site.reach_up(remaining))
+    shaded = support_only(site.near_plane(means, band_below, site.reach_up(remaining)), others)
     shaded[shaded] = grid.cells(weight, frame.flat(means[shaded])) > 0
     flat = frame.flat(means[shaded])
     return ContactShade(shaded=shaded, gains=grid.cells(gain, flat), weight=grid.cells(weight, flat),

@@ -109,6 +109,17 @@ def select(run: TrainedRun, config: RemovalConfig) -> tuple[np.ndarray, dict]:
     return chosen, counts
 
 
+def other_objects(run: TrainedRun, remaining: Gaussians, target: int | None) -> np.ndarray:
+    """(N,) bool over the `remaining` Gaussians: those the identity classifier gives to an object other than the
+    background (id 0) and the `target` with probability over 0.5. The effects leave them as they are: they stand
+    on the support, and the band around its plane reaches their bases (engine.edit.effects.support_only)."""
+    if run.classifier.out_features <= 1:
+        return np.zeros(len(remaining["means"]), bool)
+    with torch.no_grad():
+        best, label = torch.softmax(run.classifier(remaining["identity"].float()), dim=-1).max(dim=-1)
+    return ((label != 0) & (label != (-1 if target is None else target)) & (best > 0.5)).numpy()
+
+
 def keep(gaussians: Gaussians, removed: np.ndarray) -> Gaussians:
     index = torch.from_numpy(~removed)
     return {k: v[index] for k, v in gaussians.items()}
@@ -144,7 +155,8 @@ def run_removal(config: RemovalConfig) -> dict:
     after = list(render_pictures(remaining, scene.cameras, run.sh_degree, device))
     effects = None
     if config.effects:
-        remaining, after, effects = _undo_effects(run, remaining, core, plane, regions, after, device)
+        others = other_objects(run, remaining, obj.id if obj else None)
+        remaining, after, effects = _undo_effects(run, remaining, core, plane, regions, after, device, others)
     shadow = effects.search.shadow if effects else None
     with atomic_output_dir(out) as tmp_root:
         tmp = RemovedLayout(tmp_root)
@@ -202,10 +214,10 @@ class _Effects:
 
 
 def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: list[np.ndarray], after: list,
-                  device) -> tuple[dict, list, _Effects]:
+                  device, others: np.ndarray) -> tuple[dict, list, _Effects]:
     """Relight the object's cast shadow, then the darkening under and beside it, each judged by the views'
     renders of the scene as it stands, then repaint the crater under it in the relit support's colour; the
-    changed Gaussians and their renders (depth unchanged)."""
+    changed Gaussians and their renders (depth unchanged). Other objects' Gaussians (`others`) stay as they are."""
     scene, config = run.scene, EffectsConfig()
     search = find_shadow(remaining, core, plane, _train_samples(scene, after, regions), config)
     if search.shadow is not None:
@@ -216,11 +228,11 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
         after = _rerendered(run, remaining, after, device)
     # the regions too: what the views saw under an overhang shows inside them in the removed renders
     shown = _train_samples(scene, after, [np.zeros_like(region) for region in regions])
-    contact = find_contact_shade(remaining, core, plane, shown, config)
+    contact = find_contact_shade(remaining, core, plane, shown, config, others=others)
     if contact is not None:
         remaining = brighten(remaining, contact.shaded, contact.gains)
         after = _rerendered(run, remaining, after, device)
-    underside = find_underside(remaining, core, plane, config)
+    underside = find_underside(remaining, core, plane, config, others)
     if underside is not None:
         remaining = paint(remaining, underside)
         after = _rerendered(run, remaining, after, device)

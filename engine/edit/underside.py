@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from engine.edit.effects import LUMA, EffectsConfig, colors_of, darker_share
+from engine.edit.effects import LUMA, EffectsConfig, colors_of, darker_share, support_only
 from engine.edit.plane_grid import Site
 from engine.formats.splat_ply import SH_C0
 from engine.io.gaussians import Gaussians
@@ -46,14 +46,15 @@ class Underside:
 
 
 def find_underside(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, float] | None,
-                   config: EffectsConfig) -> Underside | None:
+                   config: EffectsConfig, others: np.ndarray | None = None) -> Underside | None:
     """The Gaussians under the object (core centres `obj`) standing on `plane` that lie off it, and the colour
-    of the support around; None where there are none, no plane, or too little support around to tell."""
+    of the support around; None where there are none, no plane, or too little support around to tell. Other
+    objects' Gaussians (`others`) are neither painted nor part of the support around."""
     if plane is None or len(obj) < 20 or config.underside_reach <= 0:
         return None
     site = Site.of(obj, plane)
     means = remaining["means"].numpy()
-    band = site.near_plane(means, config.band_below)
+    band = support_only(site.near_plane(means, config.band_below), others)
     across = np.linalg.norm(site.frame.flat(means) - site.centre, axis=1)
     ring = band & (across > RING[0] * site.radius) & (across < RING[1] * site.radius)
     painted = (band & (across < config.underside_reach * site.radius)

@@ -45,6 +45,7 @@ core = object_core(gone, up)
 plane = object_support(remaining["means"].numpy(), core, up)
 obj = scene.object_by(args.object)
 regions = [scene.masks[i] == obj.id for i in range(len(scene.cameras))]
+others = removal.other_objects(run, remaining, obj.id)
 after = list(removal.render_pictures(remaining, scene.cameras, run.sh_degree, device))
 config = EffectsConfig()
 search = find_shadow(remaining, core, plane, removal._train_samples(scene, after, regions), config)
@@ -93,10 +94,10 @@ def finish(gaussians):
     """The contact shade and the underside repaint after the shadow, as removal._undo_effects does them."""
     pictures = removal._rerendered(run, gaussians, after, device)
     shown = removal._train_samples(scene, pictures, [np.zeros_like(r) for r in regions])
-    contact = find_contact_shade(gaussians, core, plane, shown, config)
+    contact = find_contact_shade(gaussians, core, plane, shown, config, others=others)
     if contact is not None:
         gaussians = brighten(gaussians, contact.shaded, contact.gains)
-    under = find_underside(gaussians, core, plane, config)
+    under = find_underside(gaussians, core, plane, config, others)
     return paint(gaussians, under) if under is not None else gaussians
 
 
