@@ -11,6 +11,7 @@ from pathlib import Path
 from engine.io.image_io import read_png
 
 REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO / "scripts"))  # benchmark_ray, for the scheduling tests below
 
 
 def benchmark(scene: Path, out: Path, *extra: str, seeds: tuple[str, ...] = ("0",)) -> subprocess.CompletedProcess:
@@ -64,7 +65,6 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
 
 def test_an_inpainting_task_shares_a_gpu_with_one_training_task_and_two_trainings_never_share():
     """Ray packs tasks onto a GPU while their shares add up to at most one (in units of 1e-4)."""
-    sys.path.insert(0, str(REPO / "scripts"))
     from benchmark_ray import task_resources
 
     def units(kind: dict) -> int:
@@ -77,7 +77,6 @@ def test_an_inpainting_task_shares_a_gpu_with_one_training_task_and_two_training
 
 
 def test_model_inpainters_take_a_gpu_of_their_own_and_the_light_ones_share():
-    sys.path.insert(0, str(REPO / "scripts"))
     from benchmark_ray import light
 
     assert light("telea") and light("exemplar") and light("fsr")

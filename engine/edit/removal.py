@@ -226,8 +226,20 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
         search.shadow.residual = residual_gain(search.shadow, _train_samples(scene, after, regions))
         remaining = relight(remaining, dataclasses.replace(search.shadow, gain=search.shadow.residual))
         after = _rerendered(run, remaining, after, device)
+    remaining, after, contact, underside = undo_darkening(run, remaining, core, plane, regions, after, device,
+                                                          others, config)
+    return remaining, after, _Effects(search, contact, underside)
+
+
+def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions: list[np.ndarray], after: list,
+                   device, others: np.ndarray, config: EffectsConfig
+                   ) -> tuple[dict, list, ContactShade | None, Underside | None]:
+    """What follows the cast shadow: the darkening under and beside the object relit, judged by `after` (the
+    renders of `remaining` as it stands), then the crater under it repainted; the changed Gaussians, their
+    renders, and what was found. Apart so that docs/benchmarks/effects/run16/overshoot.py finishes its variants
+    of the shadow's relight exactly as removal does."""
     # the regions too: what the views saw under an overhang shows inside them in the removed renders
-    shown = _train_samples(scene, after, [np.zeros_like(region) for region in regions])
+    shown = _train_samples(run.scene, after, [np.zeros_like(region) for region in regions])
     contact = find_contact_shade(remaining, core, plane, shown, config, others=others)
     if contact is not None:
         remaining = brighten(remaining, contact.shaded, contact.gains)
@@ -236,7 +248,7 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
     if underside is not None:
         remaining = paint(remaining, underside)
         after = _rerendered(run, remaining, after, device)
-    return remaining, after, _Effects(search, contact, underside)
+    return remaining, after, contact, underside
 
 
 def _train_samples(scene, after: list, masks: list[np.ndarray]) -> Samples:

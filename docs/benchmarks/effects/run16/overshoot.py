@@ -21,11 +21,9 @@ import torch
 
 from engine.base.device import pick_device
 from engine.edit import removal
-from engine.edit.contact_shade import find_contact_shade
-from engine.edit.effects import EffectsConfig, brighten, find_shadow, relight, residual_gain
+from engine.edit.effects import EffectsConfig, find_shadow, relight, residual_gain
 from engine.edit.plane_grid import Site
 from engine.edit.support_plane import object_core, object_support
-from engine.edit.underside import find_underside, paint
 from engine.formats.cameras import mean_up
 from engine.io.masks import dilate
 from engine.train.trained_run import load_run
@@ -48,10 +46,10 @@ regions = [scene.masks[i] == obj.id for i in range(len(scene.cameras))]
 others = removal.other_objects(run, remaining, obj.id)
 after = list(removal.render_pictures(remaining, scene.cameras, run.sh_degree, device))
 config = EffectsConfig()
-search = find_shadow(remaining, core, plane, removal._train_samples(scene, after, regions), config)
+before = removal._train_samples(scene, after, regions)
+search = find_shadow(remaining, core, plane, before, config)
 shadow = search.shadow
 assert shadow is not None, search.verdict
-before = removal._train_samples(scene, after, regions)
 first = relight(remaining, shadow)
 after1 = removal._rerendered(run, first, after, device)
 samples1 = removal._train_samples(scene, after1, regions)
@@ -91,14 +89,9 @@ print("first relight brightened the dark samples by (25/50/75):",
 
 
 def finish(gaussians):
-    """The contact shade and the underside repaint after the shadow, as removal._undo_effects does them."""
+    """The contact shade and the underside repaint after the shadow, as removal does them."""
     pictures = removal._rerendered(run, gaussians, after, device)
-    shown = removal._train_samples(scene, pictures, [np.zeros_like(r) for r in regions])
-    contact = find_contact_shade(gaussians, core, plane, shown, config, others=others)
-    if contact is not None:
-        gaussians = brighten(gaussians, contact.shaded, contact.gains)
-    under = find_underside(gaussians, core, plane, config, others)
-    return paint(gaussians, under) if under is not None else gaussians
+    return removal.undo_darkening(run, gaussians, core, plane, regions, pictures, device, others, config)[0]
 
 
 def score(gaussians, name: str) -> None:
