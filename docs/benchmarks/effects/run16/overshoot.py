@@ -1,6 +1,6 @@
 """Where the relit shadow's overshoot comes from (run 3: the GPU livingroom's shadow 5-20% brighter than gt/ after
 removal, while on the scene's exact data the gain is within 1-3%, emulate_gain.py): the removal's effects stage
-step by step on a trained run, with the second relight (residual_gain) measured four ways, each scored on the
+step by step on a trained run, with the second relight (residual_gain) measured six ways, each scored on the
 test views against gt/.
 
     PYTHONPATH=. python docs/benchmarks/effects/run16/overshoot.py RUN OBJECT [--device cuda]
@@ -8,7 +8,8 @@ test views against gt/.
 Prints, after the first relight: the residual over all of the shadow's dark samples (today's), over those beyond
 the contact shade's zone, and over each part alone; how much the first relight brightened the dark samples
 against the gain. Then per variant of the second relight (today's; none; beyond the zone; beyond the zone by
-trimmed means): PSNR outside the true hole, in the true effect pixels, and the effect pixels' removed / gt/
+trimmed means; over the dark samples the first relight reached, everywhere and beyond the zone): PSNR outside
+the true hole, in the true effect pixels, and the effect pixels' removed / gt/
 ratio per channel (25th, 50th, 75th percentile), each after the contact shade and the underside repaint as
 `remove` does them.
 """
@@ -86,6 +87,15 @@ print("residual, beyond, trimmed means:", ratio(c1, lit & far, dark & far, "trim
 bright = (c1[dark] + 1e-3) / (c0[dark] + 1e-3)
 print("first relight brightened the dark samples by (25/50/75):",
       np.percentile(bright, [25, 50, 75], 0).round(3).tolist())
+# the dark samples the first relight reached: brightened by at least a third of the gain (in log luminance). Those
+# it left alone (the crater under the object, other objects' feet, what lies below the band) are no shadow the
+# second relight could mend, and their dark median is what would make it overshoot.
+LUM = np.array([0.2126, 0.7152, 0.0722])
+reached = np.zeros_like(dark)
+reached[dark] = np.log((c1[dark] @ LUM + 1e-3) / (c0[dark] @ LUM + 1e-3)) > np.log(shadow.gain @ LUM) / 3
+print(f"dark samples the first relight reached: {(dark & reached).sum()} of {dark.sum()}; residual over them:",
+      ratio(c1, lit, dark & reached).round(3),
+      "beyond the zone too:", ratio(c1, lit & far, dark & reached & far).round(3))
 
 
 def finish(gaussians):
@@ -119,6 +129,8 @@ variants = {
     "no second relight": np.ones(3),
     "second relight beyond the zone": np.clip(ratio(c1, lit & far, dark & far), 1, 4),
     "beyond the zone, trimmed means": np.clip(ratio(c1, lit & far, dark & far, "trimmed"), 1, 4),
+    "over the dark samples it reached": np.clip(ratio(c1, lit, dark & reached), 1, 4),
+    "reached, beyond the zone": np.clip(ratio(c1, lit & far, dark & reached & far), 1, 4),
 }
 for name, residual in variants.items():
     with torch.no_grad():
