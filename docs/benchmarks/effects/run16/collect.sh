@@ -8,6 +8,6 @@ for s in ${SCENES:-livingroom_s0 statue_s0}; do d=$B/out16_$s/work/$s/seed0; mkd
   [ -f $d/run/removed/removal.json ] && [ ! -f $d/overshoot.txt ] && python3 $B/code/docs/benchmarks/effects/run16/overshoot.py $d/run $obj --device cuda > $d/overshoot.txt 2>&1
   cp $d/overshoot.txt $d/stage_times.json $d/run/metrics.json $d/run/removed/removal.json $d/run/removed/effects/effects.json $P/$s/ 2>/dev/null
   for c in $d/run/complete/*/; do cp "$c/scores.json" "$P/$s/$(basename "$c")_scores.json" 2>/dev/null; done
-  cp $B/out16_$s/results.json $B/out16_$s/tables.md $P/$s/ 2>/dev/null; cat $d/overshoot.txt 2>/dev/null | tail -12
+  cp $B/out16_$s/results.json $B/out16_$s/tables.md $P/$s/ 2>/dev/null; cat $d/overshoot.txt 2>/dev/null | tail -16
   [ -f $B/out16_$s/pictures/$s.png ] && python3 -c "import cv2,sys; i=cv2.imread(sys.argv[1]); cv2.imwrite(sys.argv[2], cv2.resize(i, None, fx=0.5, fy=0.5, interpolation=cv2.INTER_AREA), [cv2.IMWRITE_JPEG_QUALITY, 80])" $B/out16_$s/pictures/$s.png $P/$s/methods_half.jpg
 done; cp $B/r16_*.log /tmp/om/others_margin.txt $P/ 2>/dev/null; tar czf $OUT/records16.tgz -C /tmp r16; ls -la $OUT
