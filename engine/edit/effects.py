@@ -18,7 +18,7 @@ shadow scales every albedo under it by the same factor, so the texture it darken
    those where the object touched its support (no view saw them: that is the hole's business).
 4. Relit: multiplied, colour and view-dependent terms alike, by the lit/shadow ratio of the views' samples
    per channel, each Gaussian by the share of its nearest samples that are dark; then, measured again on the
-   relit renders, by what is still missing (residual_gain), once.
+   relit renders, by what the dark samples still lack of the gain (residual_gain), once.
 
 Per view, the effect mask is where the shadowed Gaussians give at least half of a pixel's opacity. Measured
 in docs/BENCHMARKS.md ("Object effects").
@@ -74,7 +74,7 @@ class Shadow:
     azimuth: float  # degrees, in the plane's own frame
     contrast: float  # median log-luminance outside minus inside
     # which of the views' samples the gain was measured on: `pick` into Samples.from_views' list, of those the
-    # `dark` ones in the shadow and the `lit` ones just past its edge (residual_gain measures them again)
+    # `dark` ones in the shadow and the `lit` ones just past its edge (residual_gain measures the dark ones again)
     pick: np.ndarray | None = None
     dark: np.ndarray | None = None
     lit: np.ndarray | None = None
@@ -249,16 +249,21 @@ def relight(gaussians: Gaussians, shadow: Shadow) -> Gaussians:
     return brighten(gaussians, shadow.shadowed, 1.0 + shadow.darkness[:, None] * (shadow.gain[None] - 1.0))
 
 
-def residual_gain(shadow: Shadow, relit: Samples) -> np.ndarray:
-    """(3,) how much darker the shadow's samples still are than the lit ones beside it, measured on the views'
-    renders after `relight` (`relit`: Samples.from_views of those renders, same views, depth and regions, so
-    the same samples). Why a second look: a pixel blends the relit Gaussians with ones the relight left
-    alone (below the band, partly dark, a surface's lower layers), so it brightens by less than the gain
-    (measured on the tiny CPU scenes: the shadow still at 0.88 / 0.94 of gt/ inside the effect masks)."""
-    colors = relit.colors[shadow.pick]
-    if shadow.lit.sum() < 20 or shadow.dark.sum() < 20:
+def residual_gain(shadow: Shadow, before: Samples, relit: Samples) -> np.ndarray:
+    """(3,) what the first `relight` fell short of on the shadow's own dark samples: the gain over how much they
+    brightened (`before` and `relit`: Samples.from_views of the renders before and after it, same views, depth and
+    regions, so the same samples). Why a second look: a pixel blends the relit Gaussians with ones the relight
+    left alone (below the band, partly dark, a surface's lower layers), so it brightens by less than the gain
+    (tiny CPU livingroom: its dark samples by 1.26 for a gain of 1.52). Why not the lit samples against the dark
+    ones again: they lie in different places, and on the trained 640 livingroom that comparison asked for 1.10 /
+    1.16 / 1.09 more where the dark samples had already brightened by 97% of the gain; the shadow overshot gt/ by
+    3-21% per channel and scored 29.65 dB outside the hole, against 30.40 this way (statue 36.07 -> 36.03;
+    docs/benchmarks/effects/run16)."""
+    if shadow.dark.sum() < 20:
         return np.ones(3)
-    return np.clip((np.median(colors[shadow.lit], 0) + 1e-3) / (np.median(colors[shadow.dark], 0) + 1e-3), 1.0, 4.0)
+    pick = shadow.pick[shadow.dark]
+    brightened = np.median((relit.colors[pick] + 1e-3) / (before.colors[pick] + 1e-3), 0)
+    return np.clip(shadow.gain / brightened, 1.0, 4.0)
 
 
 def brighten(gaussians: Gaussians, chosen: np.ndarray, gains: np.ndarray) -> Gaussians:

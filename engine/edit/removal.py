@@ -219,11 +219,12 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
     renders of the scene as it stands, then repaint the crater under it in the relit support's colour; the
     changed Gaussians and their renders (depth unchanged). Other objects' Gaussians (`others`) stay as they are."""
     scene, config = run.scene, EffectsConfig()
-    search = find_shadow(remaining, core, plane, _train_samples(scene, after, regions), config)
+    before = _train_samples(scene, after, regions)
+    search = find_shadow(remaining, core, plane, before, config)
     if search.shadow is not None:
         remaining = relight(remaining, search.shadow)
         after = _rerendered(run, remaining, after, device)
-        search.shadow.residual = residual_gain(search.shadow, _train_samples(scene, after, regions))
+        search.shadow.residual = residual_gain(search.shadow, before, _train_samples(scene, after, regions))
         remaining = relight(remaining, dataclasses.replace(search.shadow, gain=search.shadow.residual))
         after = _rerendered(run, remaining, after, device)
     remaining, after, contact, underside = undo_darkening(run, remaining, core, plane, regions, after, device,
