@@ -55,7 +55,7 @@ $(ST_LPIPS_WEIGHTS): .venv/.ready
 	rm -rf .weights/tmp-st
 
 # The main job, end to end on a generated scene: generate -> train (Gaussian Grouping) -> remove the target
-# -> hole masks -> inpaint (fsr, offline) -> complete (Init-fsr, FT-fsr(3) with the L1 perceptual term, as no
+# -> hole masks -> inpaint (fsr, offline) -> complete (Init-fsr[warm], FT-fsr(3) with the L1 perceptual term, as no
 # LPIPS weights ship) and score. Small sizes, a few minutes on a CPU;
 # DEMO_RES, DEMO_VIEWS and DEMO_STEPS scale it up (a GPU is used when there is one).
 DEMO_RES ?= 128
@@ -73,7 +73,7 @@ demo: .venv/.ready $(BLENDER_ENV) $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS)
 	$(ENGINE) -m engine complete --run $(DEMO)/run --method ft --refs 3 --inpainter fsr --perceptual l1
 	@echo "scene: $(DEMO)/scene  run: $(DEMO)/run  pictures: $(DEMO)/preview.png, $(DEMO)/run/removed/sheet.png,"
 	@echo "  $(DEMO)/run/holes/sheet.png, $(DEMO)/run/inpainted/fsr/sheet_test.png"
-	@echo "scores: $(DEMO)/run/complete/Init-fsr/scores.json, $(DEMO)/run/complete/FT-fsr(3)[l1]/scores.json"
+	@echo "scores: $(DEMO)/run/complete/Init-fsr[warm]/scores.json, $(DEMO)/run/complete/FT-fsr(3)[l1]/scores.json"
 
 test: .venv/.ready .venv-blender/.ready $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) lint
 	$(ENGINE) -m pytest tests

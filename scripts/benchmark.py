@@ -178,10 +178,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--preset", default="default")
     parser.add_argument("--steps", type=int, default=0, help="training steps of the base runs (0: the preset's)")
     parser.add_argument("--complete-steps", type=int, default=0,
-                        help="steps of the completions that train a new scene (Init, Direct, Ref; 0: the base run's)")
+                        help="steps of the completions that train a new scene from scratch (the -scratch cells; 0: "
+                             "the base run's)")
     parser.add_argument("--short-steps", type=int, default=0,
-                        help="steps of those that continue from the base run's scene (FT, --warm cells; 0: a tenth "
-                             "of the base run's)")
+                        help="steps of those that continue from the base run's scene (FT; Init, Ref and Direct, "
+                             "warm by default; 0: a tenth of the base run's)")
     parser.add_argument("--max-gaussians", type=int, default=None,
                         help="Gaussian budget of the base runs (default: the preset's, as `engine train` has it)")
     parser.add_argument("--dilate", type=int, default=4, help="px added to the masks before inpainting")

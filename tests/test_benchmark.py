@@ -28,25 +28,28 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     assert first.returncode == 0, first.stderr[-2000:]
     cells = json.loads((tmp_path / "results.json").read_text())
     assert [(c["method"], c["status"]) for c in cells] == [
-        ("Init-fsr", "done"), ("FT-fsr(3)[l1]", "done"), ("Init-lama", "failed"), ("FT-lama(3)[l1]", "failed")]
+        ("Init-fsr[warm]", "done"), ("FT-fsr(3)[l1]", "done"), ("Init-lama[warm]", "failed"),
+        ("FT-lama(3)[l1]", "failed")]
     assert "LAMA_MODEL" in cells[2]["reason"]  # no weights: recorded, and the matrix went on
     settings = cells[0]["settings"]  # what the cell ran with, in its record
     assert settings["base"]["steps"] == 200 and settings["base"]["max_gaussians"] == 0
     assert settings["scene"] == {"views": 8, "train": 7, "test": 1, "size": [96, 72]}
-    assert settings["inpaint"]["dilate"] == 1 and settings["complete"]["steps"] == 100
-    assert cells[1]["settings"]["complete"]["steps"] == 120  # FT continues from the base run: --short-steps
+    assert settings["inpaint"]["dilate"] == 1 and settings["complete"]["warm"]
+    # Init (warm, the default) and FT both continue from the base run's scene: --short-steps, not --complete-steps
+    assert settings["complete"]["steps"] == 120 and cells[1]["settings"]["complete"]["steps"] == 120
     assert settings["versions"]["torch"] and settings["versions"]["engine"] and settings["gpu"] is None
     table = (tmp_path / "tables.md").read_text()
-    assert "| Removed (unfilled) |" in table and "| Init-fsr |" in table and "**" in table
+    assert "| Removed (unfilled) |" in table and "| Init-fsr[warm] |" in table and "**" in table
     assert "Failed cells" in table and "LAMA_MODEL" in table
     stability = (tmp_path / "stability.md").read_text()
-    assert "| Init-fsr | 1/1 |" in stability and "| Init-lama | 0/1 |" in stability and "LAMA_MODEL" in stability
+    assert "| Init-fsr[warm] | 1/1 |" in stability and "| Init-lama[warm] | 0/1 |" in stability
+    assert "LAMA_MODEL" in stability
     svg = (tmp_path / "speed_accuracy.svg").read_text()
     assert svg.startswith("<svg") and svg.count("<circle") == 4  # 2 methods that finished x 2 panels
     chart = read_png(tmp_path / "speed_accuracy.png")  # the same items drawn by the engine
     assert chart.shape[:2] == (2 * (340 + 18 + 20), 2 * 920) and (chart != 255).any()  # one row, a legend line
     picture = read_png(tmp_path / "pictures" / f"{living_scene.name}.png")
-    # region, effects, hole, GT, Init-fsr, FT-fsr(3)[l1] for the tiny scene's 96 px wide views
+    # region, effects, hole, GT, Init-fsr[warm], FT-fsr(3)[l1] for the tiny scene's 96 px wide views
     assert picture.shape[1] == 6 * 96
     times = (tmp_path / "work" / living_scene.name / "seed0" / "stage_times.json").read_text()
     # resumed, one after the other (the first ran as Ray tasks): finished cells and stages are not run again
@@ -59,8 +62,8 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     assert report.returncode == 0, report.stderr[-2000:]
     assert not (tmp_path / "work" / living_scene.name / "seed1").exists()
     table = (tmp_path / "tables.md").read_text()
-    assert "| Init-fsr |" in table and "## Cells not run" in table and "seed 1 Init-fsr" in table
-    assert "| Init-fsr | 1/2 |" in (tmp_path / "stability.md").read_text()
+    assert "| Init-fsr[warm] |" in table and "## Cells not run" in table and "seed 1 Init-fsr[warm]" in table
+    assert "| Init-fsr[warm] | 1/2 |" in (tmp_path / "stability.md").read_text()
 
 
 def test_an_inpainting_task_shares_a_gpu_with_one_training_task_and_two_trainings_never_share():

@@ -144,7 +144,8 @@ def test_init_completion_trains_on_the_inpainted_views_and_carries_the_fill_into
                               holes=str(stages["holes"]), out=str(inpainted), dilate=1))
     out = tmp_path / "Init-fsr"
     report = run_complete(CompleteConfig(run=str(stages["run"]), inpainted=str(inpainted),
-                                         removed=str(stages["removed"]), out=str(out), device="cpu"))
+                                         removed=str(stages["removed"]), out=str(out), device="cpu",
+                                         options={"warm": False}))
     assert report["method"] == "Init-fsr" and (out / "scores.json").is_file()
     assert np.isfinite(report["scores"]["m_psnr"]) and np.isfinite(report["removed_scores"]["m_psnr"])
     assert report["scores"]["lpips"] is None and "LPIPS_BACKBONE" in report["unavailable"]["lpips"]
@@ -181,7 +182,7 @@ def test_ref_carries_one_views_fill_into_the_others_holes_and_trains_on_it(stage
     out = tmp_path / "Ref-fsr"
     report = run_complete(CompleteConfig(run=str(stages["run"]), method="reference", inpainted=str(inpainted),
                                          removed=str(stages["removed"]), holes=str(stages["holes"]), out=str(out),
-                                         steps=50, device="cpu"))
+                                         steps=50, device="cpu", options={"warm": False}))
     assert report["method"] == "Ref-fsr" and np.isfinite(report["scores"]["m_psnr"])
     carried = json.loads((out / "scene" / "reference_fill.json").read_text())
     assert carried["reference"] and carried["carried_share"] > 0.1, carried
@@ -202,7 +203,8 @@ def test_direct_inpaints_the_object_region_of_the_input_images_and_completes_fro
         assert not region.any() or (filled[region] != scene.images[i][region]).any()
     out = tmp_path / "direct"
     report = run_complete(CompleteConfig(run=str(stages["run"]), method="direct", inpainted=str(inpainted),
-                                         removed=str(stages["removed"]), out=str(out), device="cpu"))
+                                         removed=str(stages["removed"]), out=str(out), device="cpu",
+                                         options={"warm": False}))
     assert report["method"] == "Direct-fsr" and np.isfinite(report["scores"]["m_psnr"])
     masks = stages["removed"] / "masks"  # the object's region: where the input images were painted over
     after, before = errors_toward(out / "run", with_hole(scene, masks), masks, inpainted / "images",
@@ -276,7 +278,7 @@ def test_recolmap_is_for_new_scenes_and_stops_cleanly_where_colmap_cannot_regist
 
     inpainted = fsr_for_ft(stages)
     common = dict(run=str(stages["run"]), inpainter="fsr", inpainted=str(inpainted), removed=str(stages["removed"]),
-                  device="cpu", options={"recolmap": True})
+                  device="cpu", options={"recolmap": True, "warm": False})
     with pytest.raises(InputError, match="--recolmap is not an option of --method ft"):
         run_complete(CompleteConfig(method="ft", out=str(tmp_path / "ft"), **common))
     with pytest.raises(InputError, match="without --recolmap"):
@@ -326,8 +328,8 @@ def test_a_cancelled_finetune_resumes_with_complete_and_keeps_its_frozen_gaussia
 
 
 def test_a_warm_init_starts_from_the_removed_scene_and_trains_a_tenth_of_the_steps(stages, tmp_path):
-    """Init-fsr[warm]: the removed scene's Gaussians and the base run's classifier as the start, 100 steps (a
-    tenth of the base run's 800, at least 100), and the fill still carried into 3D. Measured on a CPU statue
+    """Init-fsr[warm], the default: the removed scene's Gaussians and the base run's classifier as the start, 100
+    steps (a tenth of the base run's 800, at least 100), and the fill still carried into 3D. Measured on a CPU statue
     (docs/BENCHMARKS.md): a fifth of the from-scratch run's steps for the same m-PSNR."""
     import dataclasses
 
@@ -342,10 +344,10 @@ def test_a_warm_init_starts_from_the_removed_scene_and_trains_a_tenth_of_the_ste
     inpainted = fsr_for_ft(stages)
     common = dict(run=str(stages["run"]), inpainter="fsr", inpainted=str(inpainted), removed=str(stages["removed"]),
                   device="cpu")
-    job = _job(CompleteConfig(method="init", out=str(tmp_path / "setup"), options={"warm": True}, **common))
+    job = _job(CompleteConfig(method="init", out=str(tmp_path / "setup"), **common))  # the default
     settings, plugins = warm_setup(job, dataclasses.replace(job.original.config))
     removed = load_ply(stages["removed"] / "point_cloud.ply")
-    assert settings.steps == 100 and settings.sh_degree_interval == 1
+    assert job.options["warm"] and settings.steps == 100 and settings.sh_degree_interval == 1
     assert torch.equal(plugins["start"]["means"], removed["means"].float())
     assert torch.equal(plugins["classifier"].weight, job.original.classifier.weight)
     top = within_cap(plugins["start"], 10)  # above a budget's cap: the most opaque within it
@@ -360,7 +362,7 @@ def test_a_warm_init_starts_from_the_removed_scene_and_trains_a_tenth_of_the_ste
     after, before = errors_toward(out / "run", with_hole(trained.scene, stages["holes"]), stages["holes"],
                                   inpainted / "images", stages["removed"] / "images")
     assert after < before
-    with pytest.raises(InputError, match="choose one"):
+    with pytest.raises(InputError, match="add --no-warm"):
         run_complete(CompleteConfig(method="init", out=str(tmp_path / "both"), options={"warm": True, "recolmap": True},
                                     **common))
 

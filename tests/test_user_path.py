@@ -61,4 +61,4 @@ def test_the_readme_user_path_runs_as_written(capture: Path, tmp_path: Path):
     complete = next((run / "complete").iterdir())
     scores = json.loads((complete / "scores.json").read_text())
     assert scores["scores"]["psnr"] is not None and scores["scores"]["psnr"] > 10, scores["scores"]
-    assert re.fullmatch(r"Init-telea", complete.name)
+    assert re.fullmatch(r"Init-telea\[warm\]", complete.name)

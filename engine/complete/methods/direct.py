@@ -1,6 +1,7 @@
 """Direct-<inpainter> (the paper's Init-NanoBanana, made general): the object's whole region inpainted in
-the input images (`inpaint --source input`), with no removal step in between, then the same training as Init
-on those images."""
+the input images (`inpaint --source input`), then the same training as Init on those images: by default from the
+removed scene's Gaussians (Direct-<inpainter>[warm], so the removal's scene is its start); --no-warm trains from
+scratch, the paper's baseline with no removal step in between."""
 
 from __future__ import annotations
 
@@ -14,4 +15,4 @@ class Direct(NewSceneMethod):
     label = "Direct"
     summary = "train a new scene on input images with the object painted out (the paper's direct baseline)"
     source = "input"
-    cells = {"direct": {}, "direct-warm": {"warm": True}}
+    cells = {"direct": {}, "direct-scratch": {"warm": False}}

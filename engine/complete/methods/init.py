@@ -1,4 +1,5 @@
-"""Init-<inpainter> (the paper's re-initialisation): a new scene trained from scratch on the inpainted views.
+"""Init-<inpainter> (the paper's re-initialisation): a new scene trained on the inpainted views, from the removed
+scene's Gaussians by default (Init-<inpainter>[warm]; --no-warm: from scratch, as the paper; engine.complete.retrain).
 
 The training images are the inpainted render inside the removed object's region (removal's masks grown by
 the inpainting's dilation and 2 px) and inside its shadow where `remove` relit one (removed/effects, grown by
@@ -22,7 +23,7 @@ class Init(NewSceneMethod):
     name = "init"
     label = "Init"
     summary = "train a new scene from the inpainted views (the paper's Init)"
-    cells = {"init": {}, "init-colmap": {"recolmap": True}, "init-warm": {"warm": True}}
+    cells = {"init": {}, "init-scratch": {"warm": False}, "init-colmap": {"recolmap": True, "warm": False}}
 
     def keep_regions(self, job) -> dict:
         from engine.inpaint.run import inpainted_dilation

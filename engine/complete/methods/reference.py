@@ -21,7 +21,7 @@ class Reference(Init):
     label = "Ref"
     summary = "inpaint one reference view, carry its fill to every view by depth, train a new scene"
     options = (*Init.options, CONSENSUS)
-    cells = {"reference": {}, "reference-single": {"consensus": False}, "reference-warm": {"warm": True}}
+    cells = {"reference": {}, "reference-single": {"consensus": False}, "reference-scratch": {"warm": False}}
 
     def title(self, inpainter: str, options: dict) -> str:
         return super().title(inpainter, options) + ("" if options.get("consensus", True) else "[single]")
