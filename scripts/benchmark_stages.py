@@ -15,7 +15,7 @@ import time
 from pathlib import Path
 
 from addon.engine_call import EngineError, run_engine
-from engine.complete.registry import benchmark_cells, get, resolve_options
+from engine.complete.registry import CompletionMethod, benchmark_cells, get, resolve_options
 from engine.formats.checks import png_size
 from engine.formats.layout import RunLayout, SceneLayout
 
@@ -102,13 +102,21 @@ def _option_flags(options: dict) -> list[str]:
     return flags
 
 
-def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespace, failed: str = "") -> dict:
-    """One cell: its shared stages where not done (`failed`: the reason they failed elsewhere), then
-    `engine complete`, unless its scores.json is there already."""
+def cell_method(method: str, args: argparse.Namespace) -> tuple[CompletionMethod, dict, int]:
+    """A benchmark cell's completion method, its options (the cell's, the benchmark-wide ones, the rest at their
+    defaults) and its steps: --short-steps for those that continue from the base run's scene (FT, the warm new
+    scenes), --complete-steps for those that train from scratch; 0 leaves the engine's default."""
     spec = benchmark_cells()[method]
     kind = get(spec.method)
     wide = {k: getattr(args, k) for k in BENCHWIDE_OPTIONS if k in {o.name for o in kind.options}}
     options = resolve_options(kind, {**spec.options, **wide})
+    return kind, options, args.short_steps if kind.short(options) else args.complete_steps
+
+
+def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespace, failed: str = "") -> dict:
+    """One cell: its shared stages where not done (`failed`: the reason they failed elsewhere), then
+    `engine complete`, unless its scores.json is there already."""
+    kind, options, steps = cell_method(method, args)
     name = kind.title(inpainter, options)
     cell = {"scene": stages.scene.name, "seed": stages.seed, "inpainter": inpainter, "method": name}
     out = stages.run.complete(name)
@@ -122,7 +130,6 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
             shutil.rmtree(out.root, ignore_errors=True)  # an interrupted cell starts again
             flags = ["--method", kind.name, "--inpainter", inpainter, "--seed", str(stages.seed), "--device",
                      args.device, *_option_flags(options)]
-            steps = args.short_steps if kind.short(options) else args.complete_steps
             flags += ["--steps", str(steps)] if steps else []
             run_engine(["complete", "--run", str(stages.run.root), "--out", str(out.root), *flags])
         report = json.loads(out.scores_json.read_text())

@@ -66,6 +66,22 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     assert "| Init-fsr[warm] | 1/2 |" in (tmp_path / "stability.md").read_text()
 
 
+def test_cells_that_continue_from_the_base_run_take_the_short_steps_and_the_scratch_ones_the_complete_steps():
+    """--complete-steps reaches only the cells that train a new scene from scratch (the matrix test above runs
+    warm Init and FT, which take --short-steps)."""
+    import argparse
+
+    from benchmark_stages import cell_method
+
+    args = argparse.Namespace(short_steps=120, complete_steps=100, perceptual="l1")
+    steps = {cell: cell_method(cell, args)[2] for cell in ("init", "reference", "direct", "ft3", "ftall",
+                                                            "init-scratch", "reference-scratch", "direct-scratch",
+                                                            "init-colmap")}
+    assert steps == {"init": 120, "reference": 120, "direct": 120, "ft3": 120, "ftall": 120,
+                     "init-scratch": 100, "reference-scratch": 100, "direct-scratch": 100, "init-colmap": 100}
+    assert cell_method("init-scratch", args)[1]["warm"] is False and cell_method("init", args)[1]["warm"]
+
+
 def test_an_inpainting_task_shares_a_gpu_with_one_training_task_and_two_trainings_never_share():
     """Ray packs tasks onto a GPU while their shares add up to at most one (in units of 1e-4)."""
     from benchmark_ray import task_resources
