@@ -9,6 +9,8 @@ SPLATFILL_WEIGHTS=/tmp/weights RUNNER=full-table-has-no-runner bash docs/benchma
 export PYTHONPATH=/tmp/site:.; mkdir -p $OUT/mp4
 python3 -c 'import imageio_ffmpeg' 2>/dev/null || { echo 'no imageio-ffmpeg (carry .bench/ff): no MP4'; exit 0; }
 for d in /tmp/b/out/work/*/seed${SEED:-0}/run; do n=$(basename $(dirname $(dirname $d))); [ -f $OUT/mp4/$n.mp4 ] && continue
-  after=""; for m in Ref-exemplar Init-exemplar; do [ -z "$after" ] && [ -f $d/complete/$m/run/point_cloud.ply ] && after=$d/complete/$m/run/point_cloud.ply; done  # (ls sorts its arguments: Init came first)
+  after=""; for p in $d/complete/Ref-exemplar*/run/point_cloud.ply $d/complete/Init-exemplar*/run/point_cloud.ply; do
+    [ -z "$after" ] && [ -f "$p" ] && after=$p; done  # (ls sorts its arguments: Init came first; a glob, since run 4's
+    # cells end in [warm]: that run's collect found no Ref-exemplar folder and wrote no MP4)
   [ -n "$after" ] && python3 -m engine turntable --run $d --after $after --out /tmp/tt_$n --device cuda 2>&1 | tail -1 &&
     cp /tmp/tt_$n/turntable.mp4 $OUT/mp4/$n.mp4; done; ls -la $OUT/mp4

@@ -21,6 +21,10 @@ recv)
 start)
   for k in $(seq 60); do grep -q built $B/gsplat.log && break; sleep 5; done; cat $B/gsplat.log
   n=$(nvidia-smi -L | wc -l); i=0; cd $B/code || exit 1
+  # each chain's share of the host's cores: four processes whose torch each took all 64 ran their first warm
+  # cell at 1,500% CPU and 0% GPU for 6 minutes (threads spinning on each other) before this was set; Ray's
+  # workers get it set by Ray, the serial processes did not
+  export OMP_NUM_THREADS=$(( $(nproc) / n )) MKL_NUM_THREADS=$(( $(nproc) / n ))
   for c in $CHAINS; do sc=${c%:*}; s=${c#*:}
     [ -f $B/scenes/$sc/.ready ] || { echo "no $sc"; continue; }
     date +%s > $B/start_${sc}_$s
