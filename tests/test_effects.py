@@ -84,6 +84,49 @@ def test_a_cast_shadow_is_found_from_the_views_and_relit_to_the_surface_around_i
     assert np.allclose(after[~shadow.shadowed], seen[~shadow.shadowed])
 
 
+def test_the_shadow_another_object_casts_inside_the_objects_is_left_dark():
+    """A post standing in the box's shadow: without the box its own shadow is still there (gt/ has it), so the
+    support in it is left as it was while the rest of the box's shadow is relit."""
+    el, az = math.radians(40), math.radians(30)
+    light = np.array([math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)])
+    floor, lit, seen, truth, box = shadow_scene(light)
+    centre = -0.45 * np.array([math.cos(az), math.sin(az)])
+    px = np.arange(-0.04, 0.05, SPACING / 2)
+    post = np.stack(np.meshgrid(px, px, np.arange(0.02, 0.3, SPACING / 2), indexing="ij"), -1).reshape(-1, 3)
+    post[:, :2] += centre
+    t = np.linspace(0, 0.3 / light[2], 100)
+    ray = floor[:, None, :] + t[None, :, None] * light
+    under_post = (np.abs(floor[:, :2] - centre) < 0.05).all(1)
+    theirs_truth = ((np.abs(ray[..., :2] - centre) < 0.05).all(-1) & (ray[..., 2] < 0.3)).any(1) & ~under_post
+    both = truth & theirs_truth
+    assert both.sum() > 20  # the post's shadow reaches into the box's
+    remaining = gaussians(np.concatenate([floor, post]), np.concatenate([seen, np.full((len(post), 3), 0.3)]))
+    others = np.concatenate([np.zeros(len(floor), bool), np.ones(len(post), bool)])
+    rng = np.random.default_rng(0)
+    jitter = rng.uniform(-SPACING / 2, SPACING / 2, (4 * len(floor), 3)) * [1, 1, 0]
+    points, colors = np.repeat(floor, 4, 0) + jitter, np.repeat(seen, 4, 0)
+    seen_by_views = ~((np.abs(points[:, 0]) < 0.15) & (np.abs(points[:, 1]) < 0.15)) & ~np.repeat(under_post, 4)
+    samples = Samples(points=points[seen_by_views], colors=colors[seen_by_views])
+    up = np.array([0.0, 0.0, 1.0])
+    core = object_core(gaussians(box, np.full((len(box), 3), 0.9)), up)
+    plane = object_support(remaining["means"].numpy(), core, up)
+    unaware = find_shadow(remaining, core, plane, samples, EffectsConfig()).shadow
+    shadow = find_shadow(remaining, core, plane, samples, EffectsConfig(), others).shadow
+    assert unaware is not None and shadow is not None
+    n = len(floor)
+    assert unaware.shadowed[:n][both].mean() > 0.8  # relit with the box's shadow when the post is not known
+    # (at the grid's resolution: a cell the post's shadow only grazes stays with the box's)
+    assert shadow.theirs[:n][both].mean() > 0.8 and shadow.shadowed[:n][both].mean() < 0.2
+    after = colors_of(relight(remaining, shadow))[:n]
+    kept = both & shadow.theirs[:n]
+    np.testing.assert_allclose(after[kept], seen[kept], atol=1e-5)
+    assert not (shadow.shadowed & shadow.theirs).any()
+    rest = truth & ~theirs_truth
+    found = shadow.shadowed[:n] & (np.abs(floor[:, 0]) < 1.4) & (np.abs(floor[:, 1]) < 1.4)
+    assert (found & rest).sum() / (found | rest).sum() > 0.8
+    assert np.abs(after[rest & found] - lit[rest & found]).mean() < 0.05
+
+
 def test_no_shadow_is_claimed_where_the_surface_around_the_object_is_evenly_lit():
     floor, lit, _, _, box = shadow_scene(np.array([0.0, 0.6, 0.8]))
     rng = np.random.default_rng(1)

@@ -220,28 +220,31 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
     changed Gaussians and their renders (depth unchanged). Other objects' Gaussians (`others`) stay as they are."""
     scene, config = run.scene, EffectsConfig()
     before = _train_samples(scene, after, regions)
-    search = find_shadow(remaining, core, plane, before, config)
+    search = find_shadow(remaining, core, plane, before, config, others)
     if search.shadow is not None:
         remaining = relight(remaining, search.shadow)
         after = _rerendered(run, remaining, after, device)
         search.shadow.residual = residual_gain(search.shadow, before, _train_samples(scene, after, regions))
         remaining = relight(remaining, dataclasses.replace(search.shadow, gain=search.shadow.residual))
         after = _rerendered(run, remaining, after, device)
+    spared = others if search.shadow is None else others | search.shadow.theirs  # the contact shade leaves them
     remaining, after, contact, underside = undo_darkening(run, remaining, core, plane, regions, after, device,
-                                                          others, config)
+                                                          others, config, spared)
     return remaining, after, _Effects(search, contact, underside)
 
 
 def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions: list[np.ndarray], after: list,
-                   device, others: np.ndarray, config: EffectsConfig
+                   device, others: np.ndarray, config: EffectsConfig, spared: np.ndarray | None = None
                    ) -> tuple[dict, list, ContactShade | None, Underside | None]:
     """What follows the cast shadow: the darkening under and beside the object relit, judged by `after` (the
     renders of `remaining` as it stands), then the crater under it repainted; the changed Gaussians, their
-    renders, and what was found. Apart so that docs/benchmarks/effects/run16/overshoot.py finishes its variants
-    of the shadow's relight exactly as removal does."""
+    renders, and what was found. `spared` (default `others`): what the contact shade leaves as it is, the other
+    objects and the support in their own cast shadows (Shadow.theirs). Apart so that
+    docs/benchmarks/effects/run16/overshoot.py finishes its variants of the shadow's relight exactly as removal
+    does."""
     # the regions too: what the views saw under an overhang shows inside them in the removed renders
     shown = _train_samples(run.scene, after, [np.zeros_like(region) for region in regions])
-    contact = find_contact_shade(remaining, core, plane, shown, config, others=others)
+    contact = find_contact_shade(remaining, core, plane, shown, config, others=others if spared is None else spared)
     if contact is not None:
         remaining = brighten(remaining, contact.shaded, contact.gains)
         after = _rerendered(run, remaining, after, device)

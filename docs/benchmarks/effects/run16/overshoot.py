@@ -18,6 +18,8 @@ the lit-against-dark residual as residual_gain and "short of the gain" as a vari
 import argparse
 import dataclasses
 import os
+import sys
+from pathlib import Path
 
 import numpy as np
 import torch
@@ -30,6 +32,9 @@ from engine.edit.support_plane import object_core, object_support
 from engine.formats.cameras import mean_up
 from engine.io.masks import dilate
 from engine.train.trained_run import load_run
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "run17"))
+from scoring import score  # noqa: E402  (shared with run17/variants.py)
 
 parser = argparse.ArgumentParser()
 parser.add_argument("run")
@@ -106,26 +111,6 @@ def finish(gaussians):
     return removal.undo_darkening(run, gaussians, core, plane, regions, pictures, device, others, config)[0]
 
 
-def score(gaussians, name: str) -> None:
-    tests = [i for i in scene.test if i in scene.gt_images and i in scene.holes]
-    pictures = list(removal.render_pictures(gaussians, [scene.cameras[i] for i in tests], run.sh_degree, device,
-                                            depth=False))
-    outside, effect, ratios = [], [], []
-    for i, picture in zip(tests, pictures, strict=True):
-        rgb, gt = picture.rgb.astype(float), scene.gt_images[i].astype(float)
-        hole = scene.holes[i]
-        outside.append(((rgb - gt)[~hole] ** 2).mean())
-        if i in scene.effects and scene.effects[i].any():
-            e = scene.effects[i] & ~hole
-            effect.append(((rgb - gt)[e] ** 2).mean())
-            ratios.append((rgb[e] + 1) / (gt[e] + 1))
-
-    def db(mse: list) -> float:
-        return round(float(np.mean([10 * np.log10(255 ** 2 / max(m, 1e-9)) for m in mse])), 2) if mse else float("nan")
-    pct = np.percentile(np.concatenate(ratios), [25, 50, 75], 0).round(3).tolist() if ratios else None
-    print(f"{name:34s} outside the hole {db(outside)} dB, effect pixels {db(effect)} dB, removed/gt {pct}")
-
-
 variants = {
     "lit against dark (before run 16)": np.clip(ratio(c1, lit, dark), 1, 4),
     "second relight as today": residual_gain(shadow, before, samples1),
@@ -139,4 +124,5 @@ if os.environ.get("ONLY"):  # the variants to score, by a part of their name
     variants = {k: v for k, v in variants.items() if os.environ["ONLY"] in k}
 for name, residual in variants.items():
     with torch.no_grad():
-        score(finish(relight(first, dataclasses.replace(shadow, gain=residual))), f"{name} {residual.round(3)}")
+        relit = finish(relight(first, dataclasses.replace(shadow, gain=residual)))
+        score(run, relit, f"{name} {residual.round(3)}", device)
