@@ -15,7 +15,6 @@ percentile), each after the contact shade and the underside repaint as `remove` 
 the lit-against-dark residual as residual_gain and "short of the gain" as a variant (records/*/overshoot.txt).
 """
 
-import argparse
 import dataclasses
 import os
 import sys
@@ -24,40 +23,18 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from engine.base.device import pick_device
 from engine.edit import removal
-from engine.edit.effects import EffectsConfig, find_shadow, relight, residual_gain
+from engine.edit.effects import relight, residual_gain
 from engine.edit.plane_grid import Site
-from engine.edit.support_plane import object_core, object_support
-from engine.formats.cameras import mean_up
 from engine.io.masks import dilate
-from engine.train.trained_run import load_run
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "run17"))
-from scoring import score  # noqa: E402  (shared with run17/variants.py)
+from scoring import effects_stage, score  # noqa: E402  (shared with run17/variants.py)
 
-parser = argparse.ArgumentParser()
-parser.add_argument("run")
-parser.add_argument("object")
-parser.add_argument("--device", default="auto")
-args = parser.parse_args()
-device = pick_device(args.device)
-run = load_run(args.run, None)
-scene = run.scene
-chosen, _ = removal.select(run, removal.RemovalConfig(run=args.run, object=args.object))
-remaining, gone = removal.keep(run.gaussians, chosen), removal.keep(run.gaussians, ~chosen)
-up = mean_up(np.stack([c.R for c in scene.cameras]))
-core = object_core(gone, up)
-plane = object_support(remaining["means"].numpy(), core, up)
-obj = scene.object_by(args.object)
-regions = [scene.masks[i] == obj.id for i in range(len(scene.cameras))]
-others = removal.other_objects(run, remaining, obj.id)
-after = list(removal.render_pictures(remaining, scene.cameras, run.sh_degree, device))
-config = EffectsConfig()
-before = removal._train_samples(scene, after, regions)
-search = find_shadow(remaining, core, plane, before, config)
+st = effects_stage(__doc__)
+run, scene, device, remaining, core, plane = st.run, st.scene, st.device, st.remaining, st.core, st.plane
+regions, others, after, config, before, search = st.regions, st.others, st.after, st.config, st.before, st.search
 shadow = search.shadow
-assert shadow is not None, search.verdict
 first = relight(remaining, shadow)
 after1 = removal._rerendered(run, first, after, device)
 samples1 = removal._train_samples(scene, after1, regions)

@@ -26,3 +26,42 @@ def score(run, gaussians, name: str, device) -> None:
         return round(float(np.mean([10 * np.log10(255 ** 2 / max(m, 1e-9)) for m in mse])), 2) if mse else float("nan")
     pct = np.percentile(np.concatenate(ratios), [25, 50, 75], 0).round(3).tolist() if ratios else None
     print(f"{name:40s} outside the hole {db(outside)} dB, effect pixels {db(effect)} dB, removed/gt {pct}", flush=True)
+
+
+def effects_stage(description: str):
+    """The arguments RUN OBJECT [--device] and removal's effects stage up to the cast shadow's search, as `remove`
+    runs it on a trained run, but searched without the other objects (the search of run 4, before their_shadows):
+    a namespace of run, scene, device, remaining, core, plane, regions, others, after (the removed renders),
+    config, before (their training samples) and search."""
+    import argparse
+    from types import SimpleNamespace
+
+    from engine.base.device import pick_device
+    from engine.edit.effects import EffectsConfig, find_shadow
+    from engine.edit.support_plane import object_core, object_support
+    from engine.formats.cameras import mean_up
+    from engine.train.trained_run import load_run
+
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("run")
+    parser.add_argument("object")
+    parser.add_argument("--device", default="auto")
+    args = parser.parse_args()
+    device = pick_device(args.device)
+    run = load_run(args.run, None)
+    scene = run.scene
+    chosen, _ = removal.select(run, removal.RemovalConfig(run=args.run, object=args.object))
+    remaining, gone = removal.keep(run.gaussians, chosen), removal.keep(run.gaussians, ~chosen)
+    up = mean_up(np.stack([c.R for c in scene.cameras]))
+    core = object_core(gone, up)
+    plane = object_support(remaining["means"].numpy(), core, up)
+    obj = scene.object_by(args.object)
+    regions = [scene.masks[i] == obj.id for i in range(len(scene.cameras))]
+    others = removal.other_objects(run, remaining, obj.id)
+    after = list(removal.render_pictures(remaining, scene.cameras, run.sh_degree, device))
+    config = EffectsConfig()
+    before = removal._train_samples(scene, after, regions)
+    search = find_shadow(remaining, core, plane, before, config)
+    assert search.shadow is not None, search.verdict
+    return SimpleNamespace(run=run, scene=scene, device=device, remaining=remaining, core=core, plane=plane,
+                           regions=regions, others=others, after=after, config=config, before=before, search=search)

@@ -18,7 +18,6 @@ The suspects (docs/BENCHMARKS.md, "The full table, run 4"):
   search runs without the other objects and the variant takes them out as the engine does.
 """
 
-import argparse
 import dataclasses
 import os
 import sys
@@ -27,53 +26,25 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from engine.base.device import pick_device
 from engine.edit import removal
 from engine.edit.contact_shade import find_contact_shade
-from engine.edit.effects import LUMA, EffectsConfig, Shadow, brighten, find_shadow, relight, residual_gain
-from engine.edit.plane_grid import Site, surface_spacing
-from engine.edit.support_plane import object_core, object_support
+from engine.edit.effects import LUMA, Shadow, brighten, relight, residual_gain, their_shadows
+from engine.edit.plane_grid import Site
 from engine.edit.underside import find_underside, paint
-from engine.formats.cameras import mean_up
-from engine.train.trained_run import load_run
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from scoring import score  # noqa: E402
+from scoring import effects_stage, score  # noqa: E402
 
-parser = argparse.ArgumentParser()
-parser.add_argument("run")
-parser.add_argument("object")
-parser.add_argument("--device", default="auto")
-args = parser.parse_args()
-device = pick_device(args.device)
-run = load_run(args.run, None)
-scene = run.scene
-chosen, _ = removal.select(run, removal.RemovalConfig(run=args.run, object=args.object))
-remaining, gone = removal.keep(run.gaussians, chosen), removal.keep(run.gaussians, ~chosen)
-up = mean_up(np.stack([c.R for c in scene.cameras]))
-core = object_core(gone, up)
-plane = object_support(remaining["means"].numpy(), core, up)
-obj = scene.object_by(args.object)
-regions = [scene.masks[i] == obj.id for i in range(len(scene.cameras))]
-others = removal.other_objects(run, remaining, obj.id)
-after = list(removal.render_pictures(remaining, scene.cameras, run.sh_degree, device))
-config = EffectsConfig()
-before = removal._train_samples(scene, after, regions)
-search = find_shadow(remaining, core, plane, before, config)
-assert search.shadow is not None, search.verdict
+st = effects_stage(__doc__)
+run, scene, device, remaining, core, plane = st.run, st.scene, st.device, st.remaining, st.core, st.plane
+regions, others, after, config, before, search = st.regions, st.others, st.after, st.config, st.before, st.search
 shadow = search.shadow
 site = Site.of(core, plane)
 light = site.frame.light(shadow.elevation, shadow.azimuth)
 means = remaining["means"].numpy()
-if others.any():
-    theirs = means[others]
-    spacing = surface_spacing(theirs[np.random.default_rng(0).choice(len(theirs), min(len(theirs), 6000), False)])
-    their_cast = site.grid.raster(site.frame.cast(theirs, light), spacing)
-else:
-    their_cast = np.zeros((site.grid.size, site.grid.size), bool)
-# the support (not the other objects themselves: their sides facing the light are lit in gt/) in their cast shadow
-in_theirs = site.grid.cells(their_cast, site.frame.cast(means, light)) & ~others
-samples_in_theirs = site.grid.cells(their_cast, site.frame.cast(before.points[shadow.pick], light))
+# the support (not the other objects themselves: their sides facing the light are lit in gt/) in their cast
+# shadows, and the samples there, as remove finds them since run 17
+in_theirs, samples_in_theirs = their_shadows(site, light, means, others, before.points[shadow.pick])
 print(f"light {shadow.elevation:.1f} / {shadow.azimuth:.1f} deg; other objects' Gaussians {int(others.sum())}; "
       f"shadowed support in their cast {int((shadow.shadowed & in_theirs).sum())} of {int(shadow.shadowed.sum())}; "
       f"dark samples in it {int((shadow.dark & samples_in_theirs).sum())} of {int(shadow.dark.sum())}")
