@@ -11,7 +11,7 @@
 #   then `... collect 0 WAIT`, `... collect 1 0` (seed 0 brings the MP4s)
 B=/tmp/b; mkdir -p $B
 export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3) SPLATFILL_WEIGHTS=/tmp/weights
-CHAINS="livingroom_s0:0 livingroom_s0:1 statue_s0:0 statue_s0:1"
+CHAINS=${CHAINS:-"livingroom_s0:0 livingroom_s0:1 statue_s0:0 statue_s0:1"}  # (scene:seed) one per GPU; run 4 ran these
 METHODS="init reference ft3 ftall direct"; INPAINTERS="telea exemplar"
 case $1 in
 recv)
