@@ -81,7 +81,7 @@ class Shadow:
     lit: np.ndarray | None = None
     residual: np.ndarray | None = None  # (3,) the second relight's gain, once residual_gain has measured it
     # (N,) bool over the remaining Gaussians: the support in another object's own cast shadow along this light,
-    # which the relights and the contact shade leave dark (gt/ keeps those shadows); None where no others
+    # which the relights and the contact shade leave dark (gt/ keeps those shadows); all False without others
     theirs: np.ndarray | None = None
 
     def report(self) -> dict:
