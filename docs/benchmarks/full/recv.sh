@@ -6,7 +6,8 @@
 #   C: carry .bench/full3 .gsplat_build        (tabletop_s0 1of3, 2of3; gsplat's build moved here in run 2: with
 #                                               the tree at 22.2 MB, A with it came within 50 KB of 64 MiB)
 #   D, E: carry .bench/ray1, then .bench/ray2  (Ray 2.60.0 and its dependencies: the benchmark's scheduler)
-#   F, G, H: carry .bench/fid1, fid2, fid3     (FID Inception and ST-LPIPS weights, into /tmp/weights)
+#   F, G, H: carry .bench/fid1, fid2, fid3     (FID Inception and ST-LPIPS weights, into /tmp/weights; since run 5
+#                                               four folders, fid1-fid4: `bash docs/benchmarks/ray/weights.sh split`)
 #   I: carry .bench/ff                         (imageio-ffmpeg 0.6.0, 29 MB: the FFmpeg the turntables' MP4s need;
 #                                               run 1 lacked it, so its MP4s were written in a call after the table)
 # Seed 1 (the benchmark's training seed, on the same scenes): the same chain with SEED=1 before start.sh and
