@@ -198,11 +198,10 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     colors = samples.colors[pick]
     gain = np.clip((np.median(colors[lit_edge], 0) + 1e-3) / (np.median(colors[dark], 0) + 1e-3), 1.0, 8.0) \
         if lit_edge.sum() >= 20 and dark.sum() >= 20 else np.ones(3)
-    darkness = _darkness(means[shadowed], points, dark)
     theirs, samples_theirs = their_shadows(site, light, means, others, points)
     evidence.update(left_in_their_shadows=int((shadowed & theirs).sum()))
-    stay = ~theirs[shadowed]
-    return ShadowSearch(Shadow(shadowed=shadowed & ~theirs, darkness=darkness[stay], gain=gain,
+    shadowed &= ~theirs
+    return ShadowSearch(Shadow(shadowed=shadowed, darkness=_darkness(means[shadowed], points, dark), gain=gain,
                                elevation=float(best[0]), azimuth=float(best[1] % 360), contrast=score,
                                pick=pick, dark=dark & ~samples_theirs, lit=lit_edge, theirs=theirs),
                         "found", evidence)
