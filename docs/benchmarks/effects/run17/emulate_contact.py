@@ -18,8 +18,8 @@ import numpy as np
 import torch
 
 from engine.edit.contact_shade import find_contact_shade
-from engine.edit.effects import LUMA, EffectsConfig, Samples, find_shadow
-from engine.edit.plane_grid import Site, surface_spacing
+from engine.edit.effects import LUMA, EffectsConfig, Samples, find_shadow, their_shadows
+from engine.edit.plane_grid import Site
 from engine.edit.support_plane import object_support
 from engine.formats.cameras import backproject, mean_up
 from engine.io.scene import load_scene
@@ -46,7 +46,6 @@ def lifted(select) -> np.ndarray:
 rng = np.random.default_rng(0)
 obj = lifted(lambda i: scene.masks[i] == tid)
 obj = obj[rng.choice(len(obj), min(len(obj), 20000), replace=False)]
-theirs = lifted(lambda i: (scene.masks[i] != tid) & (scene.masks[i] != 0))
 up = mean_up(np.stack([c.R for c in scene.cameras]))
 pts = samples.points
 n = len(pts)
@@ -64,8 +63,8 @@ assert shadow is not None, search.verdict
 site = Site.of(obj, plane)
 light = site.frame.light(shadow.elevation, shadow.azimuth)
 print(f"{n} samples; shadow: {shadow.report()}")
-spacing = surface_spacing(theirs[rng.choice(len(theirs), min(len(theirs), 6000), replace=False)])
-in_theirs = site.grid.cells(site.grid.raster(site.frame.cast(theirs, light), spacing), site.frame.cast(pts, light))
+# the support in the other objects' own cast shadows, as remove finds it (from their samples)
+in_theirs, _ = their_shadows(site, light, pts, is_theirs, pts)
 
 
 def db(a: np.ndarray, b: np.ndarray) -> float:
@@ -82,7 +81,7 @@ def report(name: str, colors: np.ndarray, changed: np.ndarray) -> None:
 
 
 def cast_relit(spare_theirs: bool) -> tuple[np.ndarray, np.ndarray]:
-    keep = shadow.shadowed & ~(in_theirs & ~is_theirs) if spare_theirs else shadow.shadowed
+    keep = shadow.shadowed & ~in_theirs if spare_theirs else shadow.shadowed
     gains = 1.0 + shadow.darkness[keep[shadow.shadowed]][:, None] * (shadow.gain[None] - 1.0)
     colors = samples.colors.copy()
     colors[keep] *= gains
