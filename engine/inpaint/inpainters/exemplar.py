@@ -140,10 +140,10 @@ class Exemplar(Inpainter):
     summary = "exemplar-based texture synthesis (Criminisi 2004), ours, in torch"
 
     def parallel_views(self) -> bool:
-        """Its patch search is many small torch ops between numpy steps, which one view cannot spread over cores
-        or keep a GPU busy with: two views in two threads ran 1.98x one after the other on the CPU at 640x480,
-        and on a GPU eight threads against one view at a time are in docs/BENCHMARKS.md (issue 18)."""
-        return True
+        """On the CPU its patch search is many small torch ops, which one view cannot spread over cores (two
+        views in two threads: 1.98x one after the other at 640x480). On a GPU, threads gain nothing: eight
+        against one view at a time, 1.02x on an H200 (docs/BENCHMARKS.md, inpaint/threads.py)."""
+        return not torch.cuda.is_available()
 
     def inpaint_rgb(self, image, mask, prompt):
         return exemplar_fill(image, mask)
