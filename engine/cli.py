@@ -26,7 +26,7 @@ def _info(args: argparse.Namespace) -> None:
     from engine.io.extent import describe_extent
     from engine.io.scene import load_scene
 
-    scene = load_scene(args.scene, args.resolution)
+    scene = load_scene(args.scene, args.resolution, depth=True)
     cam = scene.cameras[0]
     say(f"{scene.root}: {len(scene.cameras)} views ({len(scene.train)} train, {len(scene.test)} test), "
           f"{cam.width}x{cam.height}, {len(scene.points)} points")
@@ -41,7 +41,7 @@ def _preview(args: argparse.Namespace) -> None:
     from engine.io.scene import load_scene
     from engine.pictures.preview import write_scene_preview
 
-    path = write_scene_preview(load_scene(args.scene, args.resolution), Path(args.out), rows=args.rows)
+    path = write_scene_preview(load_scene(args.scene, args.resolution, depth=True), Path(args.out), rows=args.rows)
     say(f"wrote {path}")
 
 

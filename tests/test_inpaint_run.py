@@ -137,6 +137,8 @@ def test_init_completion_trains_on_the_inpainted_views_and_carries_the_fill_into
     object's region and the input images outside it; the new scene's renders inside the holes moved toward
     the fill. m-PSNR is scored beside the unfilled scene's (see errors_toward for why it is not asserted)."""
     from engine.complete.run import CompleteConfig, run_complete
+    from engine.complete.scoring import score_run
+    from engine.metrics.scores import ScoreConfig, Scorer
     from engine.train.trained_run import load_run
 
     inpainted = stages["work"] / "fsr-for-init"
@@ -149,6 +151,9 @@ def test_init_completion_trains_on_the_inpainted_views_and_carries_the_fill_into
     assert report["method"] == "Init-fsr" and (out / "scores.json").is_file()
     assert np.isfinite(report["scores"]["m_psnr"]) and np.isfinite(report["removed_scores"]["m_psnr"])
     assert report["scores"]["lpips"] is None and "LPIPS_BACKBONE" in report["unavailable"]["lpips"]
+    # scored on the original scene's test views, which the training scene copies: the same as its own, read back
+    again = score_run(out / "run", Scorer(ScoreConfig(device="cpu"))).values
+    assert all(again[k] == pytest.approx(report["scores"][k], abs=1e-9) for k in ("psnr", "m_psnr", "ssim", "m_ssim"))
     trained = load_run(out / "run")
     assert trained.scene.target is None  # the removed object is background in the training scene
     assert all(not (m == 1).any() for m in trained.scene.masks)

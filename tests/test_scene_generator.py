@@ -42,7 +42,7 @@ def test_back_projected_depth_lands_on_the_other_views_depth(living_scene: Path)
     Measured on the tiny livingroom scene: median relative error about 1e-4; shifting the second
     camera's principal point by half a pixel raises it to about 1e-2.
     """
-    scene = load_scene(living_scene)
+    scene = load_scene(living_scene, depth=True)
     checked = 0
     for a, b in [(0, 1), (1, 2), (0, 3), (4, 6)]:
         cam_a, cam_b = scene.cameras[a], scene.cameras[b]

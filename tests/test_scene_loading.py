@@ -50,7 +50,7 @@ def scene_copy(living_scene: Path, tmp_path: Path) -> Path:
 
 
 def test_a_good_scene_loads_completely(living_scene: Path):
-    scene = load_scene(living_scene)
+    scene = load_scene(living_scene, depth=True)
     n = len(scene.cameras)
     assert len(scene.images) == len(scene.masks) == len(scene.depths) == n == 8
     assert scene.test == [5] and len(scene.train) == 7
@@ -64,7 +64,7 @@ def test_broken_input_names_the_file(scene_copy: Path, breakage: str):
     break_it, named = BREAKAGES[breakage]
     break_it(scene_copy)
     with pytest.raises(InputError) as info:
-        load_scene(scene_copy)
+        load_scene(scene_copy, depth=True)
     message = str(info.value)
     assert named in message and "\n" not in message
 
@@ -78,7 +78,7 @@ def test_a_plain_colmap_folder_loads_with_a_default_split(scene_copy: Path):
     for extra in ("masks", "depth", "gt", "gt_depth", "holes", "split.json", "scene.json"):
         path = scene_copy / extra
         shutil.rmtree(path) if path.is_dir() else path.unlink()
-    scene = load_scene(scene_copy)
+    scene = load_scene(scene_copy, depth=True)
     assert scene.masks is None and scene.depths is None and not scene.gt_images
     assert scene.test == [0] and scene.train == list(range(1, 8))  # every 8th view, as 3DGS does
 

@@ -148,7 +148,7 @@ def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | Non
     config, out = job.config, job.out
     scorer = Scorer(ScoreConfig(lpips_backbone=config.lpips_backbone, lpips_heads=config.lpips_heads,
                                 fid_weights=config.fid_weights, device=str(job.device)))
-    scores = score_run(out.run.root, scorer, renders=out.renders)
+    scores = score_run(out.run.root, scorer, renders=out.renders, scene=job.original.scene)
     baseline = score_removed(job.original.scene, job.removed, scorer)
     name = job.method.title(config.inpainter, job.options)
     settings = {k: v for k, v in dataclasses.asdict(config).items() if k != "options"} | job.options

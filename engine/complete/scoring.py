@@ -14,7 +14,7 @@ from engine.io.image_io import read_png, write_png
 from engine.io.scene import Scene
 from engine.metrics.scores import Scorer, Scores
 from engine.render.render_views import render_pictures
-from engine.train.trained_run import load_run
+from engine.train.trained_run import load_run, load_splats
 
 
 def _test_sets(scene: Scene) -> tuple[list[int], list[np.ndarray], list[np.ndarray]]:
@@ -24,16 +24,22 @@ def _test_sets(scene: Scene) -> tuple[list[int], list[np.ndarray], list[np.ndarr
     return views, [scene.gt_images[i] for i in views], [scene.holes[i] for i in views]
 
 
-def score_run(run_dir: Path, scorer: Scorer, renders: Path | None = None) -> Scores:
+def score_run(run_dir: Path, scorer: Scorer, renders: Path | None = None, scene: Scene | None = None) -> Scores:
     """Scores of a trained run's test renders against its scene's gt/, masked by holes/; the renders are
-    saved under `renders` when given (the benchmark's side-by-side pictures read them)."""
-    run = load_run(run_dir)
-    views, truths, holes = _test_sets(run.scene)
-    pictures = [p.rgb for p in render_pictures(run.gaussians, [run.scene.cameras[i] for i in views],
-                                               run.sh_degree, pick_device(scorer.config.device), depth=False)]
+    saved under `renders` when given (the benchmark's side-by-side pictures read them). `scene`: the test
+    views' cameras, gt/ and holes/ when the caller holds them already (a completion's training scene copies
+    the original's), so the run's scene is not read from disk a third time in one cell."""
+    if scene is None:
+        run = load_run(run_dir)
+        scene, gaussians, sh_degree = run.scene, run.gaussians, run.sh_degree
+    else:
+        gaussians, sh_degree = load_splats(run_dir)
+    views, truths, holes = _test_sets(scene)
+    pictures = [p.rgb for p in render_pictures(gaussians, [scene.cameras[i] for i in views], sh_degree,
+                                               pick_device(scorer.config.device), depth=False)]
     if renders is not None:
         for i, rgb in zip(views, pictures, strict=True):
-            write_png(renders / run.scene.cameras[i].name, rgb)
+            write_png(renders / scene.cameras[i].name, rgb)
     return scorer.score(pictures, truths, holes)
 
 

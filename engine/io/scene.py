@@ -11,7 +11,10 @@ Folder layout (file names shared across folders, e.g. 0000.png):
   effects/             ground-truth effect masks (255 = the target's shadow etc.)  optional (gt views)
   split.json           {"train": [names], "test": [names]}                       optional (default: every 8th)
 
-Everything present is loaded and checked, or loading fails with one line naming the file.
+Everything present is loaded and checked, or loading fails with one line naming the file; the depth maps
+(depth/, gt_depth/) only when asked for (`depth=True`): no stage trains or scores on them, and on a 100-view
+640x480 scene they are a third of a load (0.65 of 1.95 s, 160 of 355 MiB at peak, one core), which every stage
+and every benchmark cell paid.
 """
 
 from __future__ import annotations
@@ -53,7 +56,7 @@ class Scene:
     train: list[int]
     test: list[int]
     masks: list[np.ndarray] | None = None  # (H, W) uint8 instance ids
-    depths: list[np.ndarray] | None = None  # (H, W) float32 z-depth
+    depths: list[np.ndarray] | None = None  # (H, W) float32 z-depth (load_scene(..., depth=True))
     objects: list[SceneObject] = field(default_factory=list)
     gt_images: dict[int, np.ndarray] = field(default_factory=dict)
     gt_depths: dict[int, np.ndarray] = field(default_factory=dict)
@@ -77,9 +80,9 @@ class Scene:
         raise InputError(f"no object {key!r} in {self.root}; objects present: {present}")
 
 
-def load_scene(root: Path | str, resolution: int = 1) -> Scene:
+def load_scene(root: Path | str, resolution: int = 1, depth: bool = False) -> Scene:
     """Load a scene folder; see the module docstring for the layout. `resolution` > 1 loads it at
-    1/resolution of its size (engine.io.downscale), as 3DGS's -r."""
+    1/resolution of its size (engine.io.downscale), as 3DGS's -r; `depth` reads depth/ and gt_depth/ too."""
     root = Path(root)
     if not root.is_dir():
         raise InputError(f"scene folder {root} does not exist: pass a folder made by make_scene.py or COLMAP")
@@ -95,10 +98,10 @@ def load_scene(root: Path | str, resolution: int = 1) -> Scene:
     if layout.masks.is_dir():
         scene.masks = [_read_view_mask(layout.masks, cam) for cam in model.cameras]
         scene.objects = _read_objects(layout.objects_json, scene.masks)
-    if layout.depth.is_dir():
+    if depth and layout.depth.is_dir():
         scene.depths = [_read_view_depth(layout.depth, cam) for cam in model.cameras]
     scene.gt_images = _read_optional_views(layout.gt, scene, lambda p, c: _read_view_image(p, c))
-    scene.gt_depths = _read_optional_views(layout.gt_depth, scene, _read_view_depth)
+    scene.gt_depths = _read_optional_views(layout.gt_depth, scene, _read_view_depth) if depth else {}
     scene.holes = _read_optional_views(layout.holes, scene, lambda p, c: _read_view_mask(p, c) > 127)
     scene.effects = _read_optional_views(layout.effects, scene, lambda p, c: _read_view_mask(p, c) > 127)
     return scene

@@ -92,6 +92,14 @@ def _run_with_segments(run: TrainedRun) -> TrainedRun:
                                gaussians={**run.gaussians, "identity": identity}, classifier=classifier)
 
 
+def load_splats(root: Path | str) -> tuple[Gaussians, int]:
+    """Only the Gaussians of run folder `root` and the SH degree they were trained to, for a caller that holds
+    the scene already (a 100-view scene takes seconds to read)."""
+    root = Path(root)
+    config, steps, _ = _read_run(root, None)
+    return load_ply(RunLayout(root).point_cloud), config.sh_degree_at(steps)
+
+
 def load_run(root: Path | str, scene: Path | str | None = None) -> TrainedRun:
     """Load run folder `root`; `scene` overrides the scene folder recorded in its config.json."""
     root = Path(root)

@@ -23,7 +23,7 @@ from engine.io.visibility import unseen_mask
 
 records = Path(sys.argv[1])
 for path in map(Path, sys.argv[2:]):
-    scene, rng = load_scene(path), np.random.default_rng(0)
+    scene, rng = load_scene(path, depth=True), np.random.default_rng(0)
     tid, up = scene.target.id, mean_up(np.stack([c.R for c in scene.cameras]))
     trained = json.loads((records / path.name / "holes.json").read_text())["support_plane"]
     tn, td = np.array(trained[:3]), trained[3]

@@ -24,7 +24,7 @@ from engine.edit.support_plane import object_support
 from engine.formats.cameras import backproject, mean_up
 from engine.io.scene import load_scene
 
-scene = load_scene(sys.argv[1])
+scene = load_scene(sys.argv[1], depth=True)
 tid = scene.target.id
 views = [i for i in scene.test if i in scene.gt_images]
 cams = [scene.cameras[i] for i in views]

@@ -11,7 +11,7 @@ from engine.io.masks import dilate
 from engine.io.scene import load_scene
 from engine.io.visibility import unseen_mask
 
-scene = load_scene(Path(sys.argv[1]))
+scene = load_scene(Path(sys.argv[1]), depth=True)
 tid = scene.target.id if hasattr(scene.target, "id") else scene.target
 train = [scene.cameras[j] for j in scene.train]
 regions = [scene.masks[i] == tid for i in range(len(scene.cameras))]

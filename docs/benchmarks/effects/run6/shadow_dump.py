@@ -17,7 +17,7 @@ core = d["core"].astype(np.float64)
 search = E.find_shadow({"means": torch.from_numpy(d["remaining_means"])}, core, plane, samples, E.EffectsConfig())
 print(search.report())
 # true shadow points: test views' effects masks lifted with the exact depth
-scene = load_scene(Path(scene_dir))
+scene = load_scene(Path(scene_dir), depth=True)
 truth = []
 for i in scene.test:
     if i in scene.effects:

@@ -12,7 +12,7 @@ from engine.edit.support_plane import object_support
 from engine.formats.cameras import backproject, mean_up, pixel_grid
 from engine.io.scene import load_scene
 
-scene = load_scene(Path(sys.argv[1]))
+scene = load_scene(Path(sys.argv[1]), depth=True)
 tid = scene.target.id
 train = scene.train
 cams = [scene.cameras[i] for i in train]

@@ -18,7 +18,7 @@ from engine.io.scene import load_scene
 from engine.io.visibility import DEFAULT_REL_TOL, exact_tolerance, unseen_mask
 
 for path in map(Path, sys.argv[1:]):
-    scene = load_scene(path)
+    scene = load_scene(path, depth=True)
     tid = scene.target.id
     train = [scene.cameras[j] for j in scene.train]
     depths = [scene.depths[j] for j in scene.train]

@@ -20,7 +20,7 @@ def hole_scores(image: np.ndarray, truth: np.ndarray, hole: np.ndarray) -> tuple
 
 def own_fills(inpainter, path: Path) -> tuple[dict[int, ViewFill], dict[int, np.ndarray]]:
     """Per test view with a hole of at least 50 px: its own fill, and its gt/ image."""
-    scene, fills, truths = load_scene(path), {}, {}
+    scene, fills, truths = load_scene(path, depth=True), {}, {}
     for i in sorted(scene.gt_depths):
         camera = scene.cameras[i]
         hole = read_png(path / "holes" / camera.name, "mask", camera.size) > 0

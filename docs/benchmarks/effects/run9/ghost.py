@@ -20,6 +20,7 @@ import torch
 from engine.edit.removal import RemovalConfig, object_probability, select
 from engine.formats.cameras import project, sample_nearest
 from engine.io.masks import dilate
+from engine.io.scene import load_scene
 from engine.train.trained_run import load_run
 
 AHEAD = 0.02  # of the background's depth
@@ -45,13 +46,14 @@ def summary(values: np.ndarray) -> dict:
 
 run_dir, name, out = Path(sys.argv[1]), sys.argv[2], Path(sys.argv[3])
 run = load_run(run_dir)
+gt_depths = load_scene(run.scene.root, run.config.resolution, depth=True).gt_depths  # load_run reads no depth
 obj = run.scene.object_by(name)
 chosen, counts = select(run, RemovalConfig(run=str(run_dir), object=name))
 g = run.gaussians
 means = g["means"].numpy()
 ahead = np.zeros(len(means), dtype=bool)
 for i in run.scene.test:
-    background = run.scene.gt_depths.get(i)
+    background = gt_depths.get(i)
     if background is None:
         continue
     u, v, z = project(run.scene.cameras[i], means)

@@ -21,7 +21,7 @@ from engine.io.scene import load_scene
 from engine.io.visibility import exact_tolerance, unseen_mask
 
 for path in map(Path, sys.argv[1:]):
-    scene, layout = load_scene(path), SceneLayout(path)
+    scene, layout = load_scene(path, depth=True), SceneLayout(path)
     tol = exact_tolerance(scene.cameras)
     train = [scene.cameras[j] for j in scene.train]
     depths = [scene.depths[j] for j in scene.train]
