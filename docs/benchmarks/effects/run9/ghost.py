@@ -46,7 +46,7 @@ def summary(values: np.ndarray) -> dict:
 
 run_dir, name, out = Path(sys.argv[1]), sys.argv[2], Path(sys.argv[3])
 run = load_run(run_dir)
-gt_depths = load_scene(run.scene.root, run.config.resolution, depth=True).gt_depths  # load_run reads no depth
+gt_depths = load_scene(run.scene.root, depth=True).gt_depths  # load_run reads no depth; root is at the run's size
 obj = run.scene.object_by(name)
 chosen, counts = select(run, RemovalConfig(run=str(run_dir), object=name))
 g = run.gaussians
