@@ -10,42 +10,14 @@
 #   call 3 carry .bench/fid2 .bench/fid3            `device.sh recv`
 #   call 4 carry .bench/fid4 .bench/ff              `device.sh recv && device.sh wait 480`
 #   then `device.sh wait N`, `device.sh collect 0 0`, `device.sh collect 1 0`
-B=/tmp/b; mkdir -p $B
-export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3) SPLATFILL_WEIGHTS=/tmp/weights
-CHAINS=${CHAINS:-"livingroom_s0:0 livingroom_s0:1 tabletop_s0:0 tabletop_s0:1"}  # (scene:seed) one per GPU
-METHODS="init reference ft3 ftall direct"; INPAINTERS="telea exemplar"
+# What ran was a copy of run 4's script with these changes; they are now this wrapper around it (the same steps).
+export CHAINS=${CHAINS:-"livingroom_s0:0 livingroom_s0:1 tabletop_s0:0 tabletop_s0:1"}  # (scene:seed) one per GPU
+RUN4=docs/benchmarks/full/run4/device.sh
 case $1 in
-recv)
-  bash docs/benchmarks/full/recv.sh
-  # gsplat's first build, from a copy of its own (the call's tree may be replaced by the next call's)
-  [ -d $B/build ] || { cp -r . $B/build; (cd $B/build && setsid nohup python3 -c "from engine.render.rasterize import gsplat_rasterization as g; g(); print('built')" > $B/gsplat.log 2>&1 < /dev/null &); }
-  cat $B/gsplat.log;;
 threads)  # exemplar on the GPU: one view at a time against eight in threads (docs/benchmarks/inpaint/threads.py)
-  CUDA_VISIBLE_DEVICES=3 python3 docs/benchmarks/inpaint/threads.py 16 1 8 2>&1 | tee $OUT/threads.txt;;
-start)
-  for k in $(seq 60); do grep -q built $B/gsplat.log && break; sleep 5; done; cat $B/gsplat.log
-  rm -rf $B/code; cp -r . $B/code  # the code as of this call
-  n=$(nvidia-smi -L | wc -l); i=0; cd $B/code || exit 1
-  # each chain's share of the host's cores: four processes whose torch each took all 64 ran their first warm
-  # cell at 1,500% CPU and 0% GPU for 6 minutes (threads spinning on each other) before this was set; Ray's
-  # workers get it set by Ray, the serial processes did not
-  export OMP_NUM_THREADS=$(( $(nproc) / n )) MKL_NUM_THREADS=$(( $(nproc) / n ))
-  for c in $CHAINS; do sc=${c%:*}; s=${c#*:}
-    [ -f $B/scenes/$sc/.ready ] || { echo "no $sc"; continue; }
-    date +%s > $B/start_${sc}_$s
-    CUDA_VISIBLE_DEVICES=$((i % n)) setsid nohup python3 scripts/benchmark.py --scenes $B/scenes/$sc --methods $METHODS \
-      --inpainters $INPAINTERS --seeds $s --out $B/o_${sc}_$s --complete-steps 10000 --scheduler serial \
-      --device cuda > $B/runner_${sc}_$s.log 2>&1 < /dev/null &
-    i=$((i + 1)); done
-  sleep 15; tail -n 2 $B/runner_*.log; nvidia-smi --query-gpu=index,name,utilization.gpu,memory.used --format=csv;;
-wait)
-  end=$(( $(date +%s) + $2 ))
-  while pgrep -f "[s]cripts/benchmark.py --scenes" > /dev/null && [ $(date +%s) -lt $end ]; do sleep 10; done
-  tail -n 1 $B/runner_*.log;;
-collect)  # one seed's records, sheets, logs (and MP4s) into $OUT, through the run-3 collectors
-  mkdir -p $B/out/work; for c in $CHAINS; do sc=${c%:*}; s=${c#*:}; mkdir -p $B/out/work/$sc
-    [ -e $B/out/work/$sc/seed$s ] || ln -s $B/o_${sc}_$s/work/$sc/seed$s $B/out/work/$sc/seed$s; done
-  for f in $B/start_*; do echo "$f $(cat $f)"; done > $B/bench_starts.log; nvidia-smi -L >> $B/bench_starts.log
-  SEED=$2 PERCEPTUAL=st-lpips METHODS="$METHODS" INPAINTERS="$INPAINTERS" bash docs/benchmarks/full/collect.sh $3
-  [ "$2" = 0 ] || rm -rf $OUT/mp4;;
+  PYTHONPATH=/tmp/site:. CUDA_VISIBLE_DEVICES=3 python3 docs/benchmarks/inpaint/threads.py 16 1 8 2>&1 | tee $OUT/threads.txt;;
+start)  # the code as of this call (recv copied the first call's, to build gsplat from), once the build is done
+  for k in $(seq 60); do grep -q built /tmp/b/gsplat.log 2>/dev/null && break; sleep 5; done
+  rm -rf /tmp/b/code && cp -r . /tmp/b/code && bash $RUN4 start;;
+*) bash $RUN4 "$@";;
 esac
