@@ -4,6 +4,8 @@ chart, all from the records alone (nothing is run).
 
     PYTHONPATH=.:scripts python docs/benchmarks/full/merge.py OUT run1/results.json run2/results.json
     PYTHONPATH=. python -m engine chart --spec OUT/speed_accuracy.json --out OUT/speed_accuracy.png
+
+`PATH:SCENE` takes only that scene's cells from a file (the latest run of each family, from runs at other codes).
 """
 
 import json
@@ -14,7 +16,14 @@ from benchmark import write_results
 
 out = Path(sys.argv[1])
 out.mkdir(parents=True, exist_ok=True)
-cells = [cell for path in sys.argv[2:] for cell in json.loads(Path(path).read_text())]
+
+
+def records(arg: str) -> list[dict]:
+    path, _, scene = arg.partition(":")
+    return [c for c in json.loads(Path(path).read_text()) if not scene or c["scene"] == scene]
+
+
+cells = [cell for arg in sys.argv[2:] for cell in records(arg)]
 seen = {(c["scene"], c["seed"], c["method"]) for c in cells}
 if len(seen) != len(cells):
     sys.exit("the records repeat a scene, seed and method: give each run's results.json once")
