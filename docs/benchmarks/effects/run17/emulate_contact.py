@@ -11,52 +11,24 @@ luminance, all channels alike); windows of 9 and 13 cells. And of the cast shado
 objects' own cast shadows (along the light found) left unlit, with and without the grey contact gain.
 """
 
-import math
 import sys
+from pathlib import Path
 
 import numpy as np
-import torch
 
 from engine.edit.contact_shade import find_contact_shade
 from engine.edit.effects import LUMA, EffectsConfig, Samples, find_shadow, their_shadows
 from engine.edit.plane_grid import Site
 from engine.edit.support_plane import object_support
-from engine.formats.cameras import backproject, mean_up
-from engine.io.scene import load_scene
 
-scene = load_scene(sys.argv[1], depth=True)
-tid = scene.target.id
-views = [i for i in scene.test if i in scene.gt_images]
-cams = [scene.cameras[i] for i in views]
-regions = [scene.masks[i] == tid for i in views]
-depths = [scene.depths[i] for i in views]
-samples = Samples.from_views(cams, [scene.images[i] for i in views], depths, regions, most=300_000)
-truth = Samples.from_views(cams, [scene.gt_images[i] for i in views], depths, regions, most=300_000).colors
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from exact_data import db, exact_data  # noqa: E402
 
-
-def lifted(select) -> np.ndarray:
-    """3D points of the pixels `select(view)` picks (bool mask per view), from depth/."""
-    out = []
-    for i in views:
-        ys, xs = np.nonzero(select(i) & np.isfinite(scene.depths[i]))
-        out.append(backproject(scene.cameras[i], xs + 0.5, ys + 0.5, scene.depths[i][ys, xs]))
-    return np.concatenate(out)
-
-
-rng = np.random.default_rng(0)
-obj = lifted(lambda i: scene.masks[i] == tid)
-obj = obj[rng.choice(len(obj), min(len(obj), 20000), replace=False)]
-up = mean_up(np.stack([c.R for c in scene.cameras]))
-pts = samples.points
-n = len(pts)
-remaining = {"means": torch.as_tensor(pts, dtype=torch.float32), "quats": torch.tensor([[1.0, 0, 0, 0]]).repeat(n, 1),
-             "scales": torch.full((n, 3), math.log(0.003)), "opacities": torch.full((n,), 3.0),
-             "sh0": torch.zeros(n, 1, 3), "shN": torch.zeros(n, 15, 3), "identity": torch.zeros(n, 16)}
-# which samples show another object (the cup, box, apple, sharpener): their masks through the same lifting
-labels = [np.repeat(((scene.masks[i] != tid) & (scene.masks[i] != 0))[..., None], 3, axis=2) * 255.0 for i in views]
-is_theirs = Samples.from_views(cams, labels, depths, regions, most=300_000).colors[:, 0] > 0.5
+ex = exact_data(sys.argv[1])
+samples, truth, obj, pts, n = ex.samples, ex.truth, ex.obj, ex.pts, ex.n
+remaining, is_theirs = ex.remaining, ex.is_theirs
 config = EffectsConfig()
-plane = object_support(pts, obj, up)
+plane = object_support(pts, obj, ex.up)
 search = find_shadow(remaining, obj, plane, samples, config)
 shadow = search.shadow
 assert shadow is not None, search.verdict
@@ -65,10 +37,6 @@ light = site.frame.light(shadow.elevation, shadow.azimuth)
 print(f"{n} samples; shadow: {shadow.report()}")
 # the support in the other objects' own cast shadows, as remove finds it (from their samples)
 in_theirs, _ = their_shadows(site, light, pts, is_theirs, pts)
-
-
-def db(a: np.ndarray, b: np.ndarray) -> float:
-    return round(float(10 * np.log10(1.0 / max(float(((a - b) ** 2).mean()), 1e-12))), 2)
 
 
 def report(name: str, colors: np.ndarray, changed: np.ndarray) -> None:
