@@ -62,11 +62,6 @@ class EffectsConfig:
     # 0.6 / 0.8 / 0.9 gained +0.88 / +1.06 / +1.04 dB on livingroom, +0.17 / +0.19 / +0.18 on tabletop, 0 / 0 /
     # +0.21 on statue; only what lies off the plane, at 0.8: +1.03 / +0.13 / 0 (docs/BENCHMARKS.md)
     underside_reach: float = 0.8
-    # grid cells the cast footprint is grown by (1: one, as always). Above 1, the samples cast into the grown
-    # footprint count as dark where they are darker than the lit support, so the penumbra (the generator's sun is
-    # 2-6 degrees wide, so it widens away from the object) is relit by its share of dark samples; the lit
-    # reference ring moves out with it. An experiment's switch (docs/BENCHMARKS.md, run 5's missed effect)
-    cast_margin: int = 1
 
 
 @dataclass
@@ -193,15 +188,13 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     evidence.update(contrast=score, chance_contrast=chance)
     if not score - chance >= config.min_contrast:
         return ShadowSearch(None, "no candidate darker than chance by min_contrast", evidence)
-    grow = 2 * max(config.cast_margin, 1) + 1
     cast = grid.raster(frame.cast(obj, light), site.spacing)
-    cast = cv2.dilate(cast.astype(np.uint8), np.ones((grow, grow), np.uint8)) > 0
+    cast = cv2.dilate(cast.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
     shadowed = around(means, config.band_below, site.reach_up(remaining))
     shadowed[shadowed] = grid.cells(cast, frame.cast(means[shadowed], light))
-    zone = (inside | grid.cells(cast, frame.cast(points, light))) if config.cast_margin > 1 else inside
-    dark = zone & (np.median(log_y[~inside]) - log_y > config.min_contrast)
-    lit_edge = ~zone & grid.cells(cv2.dilate(cast.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0,
-                                   frame.cast(points, light))
+    dark = inside & (np.median(log_y[~inside]) - log_y > config.min_contrast)
+    lit_edge = ~inside & grid.cells(cv2.dilate(cast.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0,
+                                     frame.cast(points, light))
     colors = samples.colors[pick]
     gain = np.clip((np.median(colors[lit_edge], 0) + 1e-3) / (np.median(colors[dark], 0) + 1e-3), 1.0, 8.0) \
         if lit_edge.sum() >= 20 and dark.sum() >= 20 else np.ones(3)
