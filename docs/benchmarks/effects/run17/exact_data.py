@@ -1,6 +1,7 @@
-"""The 640 scenes' exact data standing in for a trained removal (emulate_contact.py, and run18/penumbra.py at df969a4): the test
-views' pixels outside the target's region, lifted with the generator's depth/, are the remaining Gaussians and the
-views' samples at once; gt/ at the same pixels is the truth; the target's pixels, lifted, are its Gaussians."""
+"""The 640 scenes' exact data standing in for a trained removal (emulate_contact.py; run18/penumbra.py at
+df969a4): the test views' pixels outside the target's region, lifted with the generator's depth/, are the remaining
+Gaussians and the views' samples at once; gt/ at the same pixels is the truth; the target's pixels, lifted, are its
+Gaussians."""
 
 import math
 from types import SimpleNamespace
