@@ -9,11 +9,7 @@
 #   calls 3-5 carry .bench/fid1, fid2, fid3   `... recv`  (FID Inception and ST-LPIPS into /tmp/weights)
 #   call 6 carry .bench/ff                    `... recv && ... wait 540`
 #   then `... collect 0 WAIT`, `... collect 1 0` (seed 0 brings the MP4s)
-# Next (the tree is now 30.6 MiB: at most about 33 MiB beside it a call), scenes repacked in 15 MiB parts
-# (`run8/pack.py .bench/parts15 15 SCENE...`) and the weights in four (`ray/weights.sh split`):
-#   .whl .bench/full_3 (statue 2of2, tabletop 3of3) | .bench/full_1 (livingroom) | .bench/full_2 (tabletop 1-2of3),
-#   then CHAINS="livingroom_s0:0 livingroom_s0:1 tabletop_s0:0 tabletop_s0:1" ... start; .bench/full_4 (statue
-#   1of2) only where the statue runs; .bench/fid1..fid4 and .bench/ff while the base runs train
+# Run 5 ran its chains through this script (../run5/device.sh, livingroom and tabletop); run 6 uses its recv and wait.
 B=/tmp/b; mkdir -p $B
 export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3) SPLATFILL_WEIGHTS=/tmp/weights
 CHAINS=${CHAINS:-"livingroom_s0:0 livingroom_s0:1 statue_s0:0 statue_s0:1"}  # (scene:seed) one per GPU; run 4 ran these

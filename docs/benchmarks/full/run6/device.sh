@@ -20,28 +20,24 @@
 #   records go in raw.tgz: its cells are the one-GPU cells again, its wall time is what it measures)
 B=/tmp/b; mkdir -p $B
 export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3) SPLATFILL_WEIGHTS=/tmp/weights
-METHODS="init reference ft3 ftall direct"; INPAINTERS="telea exemplar"
+METHODS="init reference ft3 ftall direct"; INPAINTERS="telea exemplar"; RUN4=docs/benchmarks/full/run4/device.sh
 bench() {  # $1 the GPUs it sees, $2 out folder, $3 scene, then the scheduler's flags
   gpus=$1 out=$2 sc=$3; shift 3; date +%s > $B/start_$(basename $out)
   CUDA_VISIBLE_DEVICES=$gpus setsid nohup python3 scripts/benchmark.py --scenes $B/scenes/$sc --methods $METHODS --inpainters $INPAINTERS \
     --seeds 0 --out $out --complete-steps 10000 --device cuda "$@" > $B/runner_$(basename $out).log 2>&1 < /dev/null &
 }
 case $1 in
-recv)
-  bash docs/benchmarks/full/recv.sh
-  [ -d $B/build ] || { cp -r . $B/build; (cd $B/build && setsid nohup python3 -c "from engine.render.rasterize import gsplat_rasterization as g; g(); print('built')" > $B/gsplat.log 2>&1 < /dev/null &); }
-  cat $B/gsplat.log; python3 -c "import ray; print('ray', ray.__version__)" 2>&1 | tail -1;;
+recv)  # run 4's (wheels, scenes, weights, Ray; gsplat built behind from a copy of the first call's tree)
+  bash $RUN4 recv; python3 -c "import ray; print('ray', ray.__version__)" 2>&1 | tail -1;;
 start)
   for k in $(seq 60); do grep -q built $B/gsplat.log && break; sleep 5; done; cat $B/gsplat.log
-  rm -rf $B/code; cp -r . $B/code; cd $B/code || exit 1
+  rm -rf $B/code; cp -r . $B/code; cd $B/code || exit 1  # the code as of this call, once the build from it is done
   bench 0 $B/o_one livingroom_s0  # Ray, one GPU
   bench 1,2 $B/o_two livingroom_s0  # Ray, two GPUs
   OMP_NUM_THREADS=16 MKL_NUM_THREADS=16 bench 3 $B/o_statue statue_s0 --scheduler serial  # (Ray sets its own)
   sleep 40; tail -n 3 $B/runner_*.log; nvidia-smi --query-gpu=index,utilization.gpu,memory.used --format=csv;;
 wait)
-  end=$(( $(date +%s) + $2 ))
-  while pgrep -f "[s]cripts/benchmark.py --scenes" > /dev/null && [ $(date +%s) -lt $end ]; do sleep 10; done
-  tail -n 1 $B/runner_*.log; for f in $B/start_*; do echo "$f $(cat $f)"; done;;
+  bash $RUN4 wait $2; for f in $B/start_*; do echo "$f $(cat $f)"; done;;
 collect)  # the one-GPU livingroom and the statue through the run-3 collectors; every JSON record of all three
   mkdir -p $B/out/work/livingroom_s0 $B/out/work/statue_s0
   ln -sfn $B/o_one/work/livingroom_s0/seed0 $B/out/work/livingroom_s0/seed0
