@@ -89,22 +89,6 @@ def test_identities_are_rendered_only_on_the_steps_that_train_them(living_scene:
     assert not unmasked.optimizers["identity"].state and unmasked.optimizers["sh0"].state
 
 
-def test_a_coarse_schedule_trains_its_first_steps_at_reduced_size(living_scene: Path, tmp_path: Path):
-    """coarse_factor=4 over the first half: a quarter of the size, then half, then full; the labels the
-    identity loss reads are reduced with the images (a size mismatch would fail the gather)."""
-    schedule = TrainConfig(steps=1000, coarse_factor=4, coarse_until=0.5)
-    assert [schedule.downscale_at(s) for s in (0, 249, 250, 499, 500, 999)] == [4, 4, 2, 2, 1, 1]
-    assert TrainConfig().downscale_at(0) == 1
-    with pytest.raises(InputError, match="power of two"):
-        TrainConfig(coarse_factor=3).resolved()
-    scene = load_scene(living_scene)
-    trainer = Trainer(tiny_config(living_scene, tmp_path, steps=4, coarse_factor=2), scene, CPU)
-    h, w = scene.images[0].shape[:2]
-    shapes = [tuple(trainer.step().rgb.shape[:2]) for _ in range(4)]
-    assert shapes == [(h // 2, w // 2)] * 2 + [(h, w)] * 2
-    assert trainer.optimizers["identity"].state  # the reduced steps trained the identities too
-
-
 def test_a_budget_caps_the_number_of_gaussians(living_scene: Path, tmp_path: Path):
     scene = load_scene(living_scene)
     cap = len(scene.points) + 500

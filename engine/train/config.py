@@ -63,14 +63,6 @@ class TrainConfig:
     # hundred steps N=2 cost 0.018 mIoU, and the CPU rasterizer saves nothing. Scenes without masks never
     # render identities: nothing would train them.
     identity_every: int = 4
-    # coarse to fine: the first coarse_until of the steps render at reduced size, starting at 1/coarse_factor
-    # (a power of two) and halving the reduction at equal intervals (4: a quarter of the size, then half, then
-    # full); targets area-averaged, identity labels by nearest neighbour. 1 = full size throughout (Gaussian
-    # Grouping's). A rasterization's cost follows its pixels, and growing the Gaussians from the points needs no
-    # fine detail (DashGaussian, CVPR 2025, schedules resolution the same way). Completions always train at full
-    # size: they start from a trained scene and their holes are per-pixel.
-    coarse_factor: int = 1
-    coarse_until: float = 0.5
     reg3d_every: int = 5
     reg3d_k: int = 5
     reg3d_samples: int = 1000
@@ -96,14 +88,6 @@ class TrainConfig:
         """SH bands in use after `step` steps: one more every sh_degree_interval, up to sh_degree."""
         return min(step // self.sh_degree_interval, self.sh_degree)
 
-    def downscale_at(self, step: int) -> int:
-        """The factor the scene's images are reduced by at `step` (1 = full size), by the coarse schedule."""
-        end = self.coarse_until * self.steps
-        if self.coarse_factor <= 1 or step >= end:
-            return 1
-        levels = self.coarse_factor.bit_length() - 1  # halvings from 1/coarse_factor up to full size
-        return 2 ** (levels - int(step / end * levels))
-
     def resolved(self) -> TrainConfig:
         """Apply the preset's values to fields the user left at their defaults. A schedule the user left
         alone stretches with --steps: densifying stops at the same fraction of the run whatever its length
@@ -111,8 +95,6 @@ class TrainConfig:
         its end)."""
         if self.preset not in PRESETS:
             raise InputError(f"unknown preset {self.preset!r}: choose from {', '.join(sorted(PRESETS))}")
-        if self.coarse_factor < 1 or self.coarse_factor & (self.coarse_factor - 1):
-            raise InputError(f"--coarse-factor {self.coarse_factor}: give a power of two (1 = full size throughout)")
         defaults = TrainConfig()
         preset = PRESETS[self.preset]
         untouched = tuple(k for k in SCHEDULE if getattr(self, k) == getattr(defaults, k))

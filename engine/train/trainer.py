@@ -21,13 +21,12 @@ from engine.base.errors import InputError
 from engine.io.gaussians import PARAM_NAMES, Gaussians, init_from_points, new_classifier
 from engine.io.scene import Scene
 from engine.metrics.image_metrics import psnr_from_mse
-from engine.render.rasterize import render
+from engine.render.rasterize import CameraTensors, render
 from engine.train.adam_step import adam_step
 from engine.train.budget_strategy import BudgetStrategy
 from engine.train.config import TrainConfig
 from engine.train.identity_regularizer import IdentityRegularizer
 from engine.train.photometric_loss import photometric_loss
-from engine.train.view_sizes import schedule_factors, view_size
 
 
 def scene_extent(scene: Scene) -> float:
@@ -82,8 +81,7 @@ def grouping_terms(trainer: Trainer, view: int, out) -> torch.Tensor | float:
     cfg, step, loss = trainer.config, trainer.step_index, 0.0
     if out.logits is not None:  # a step that renders identities (scenes with masks, every identity_every steps)
         classes = out.logits.shape[-1]
-        labels = trainer.sizes[trainer.downscale].labels[view]
-        loss = loss + cfg.identity_weight * pixel_cross_entropy(out.logits, labels) / math.log(classes)
+        loss = loss + cfg.identity_weight * pixel_cross_entropy(out.logits, trainer.masks[view]) / math.log(classes)
         if cfg.reg3d_every > 0 and step % cfg.reg3d_every == 0:
             loss = loss + trainer.regularizer.loss(trainer.params["identity"], trainer.classifier,
                                                    trainer.params["means"], step, trainer.generator)
@@ -135,7 +133,10 @@ class Trainer:
         self.regularizer = IdentityRegularizer(k=config.reg3d_k, samples=config.reg3d_samples,
                                                weight=config.reg3d_weight, pool_size=config.reg3d_pool,
                                                refresh_every=config.reg3d_refresh)
-        self.sizes = {f: view_size(scene, scene.train, f, device) for f in schedule_factors(config.coarse_factor)}
+        self.cameras = [CameraTensors.from_camera(c, device) for c in scene.cameras]
+        self.images = {i: torch.as_tensor(scene.images[i], device=device) for i in scene.train}
+        self.masks = ({i: torch.as_tensor(scene.masks[i], device=device).long() for i in scene.train}
+                      if scene.masks is not None else None)
         self.step_index = 0
         self.seconds = 0.0
 
@@ -181,11 +182,11 @@ class Trainer:
         step = self.step_index
         lr = self._means_lr(step)
         self.optimizers["means"].param_groups[0]["lr"] = lr
-        view, size = self._next_view(), self.sizes[self.downscale]
-        identity = size.labels is not None and step % self.config.identity_every == 0
-        out = render(self.params, size.cameras[view], self.sh_degree, classifier=self.classifier,
+        view = self._next_view()
+        identity = self.masks is not None and step % self.config.identity_every == 0
+        out = render(self.params, self.cameras[view], self.sh_degree, classifier=self.classifier,
                      depth=self.objective.needs_depth, identity=identity)
-        target = size.images[view].float() / 255.0
+        target = self.images[view].float() / 255.0
         loss = self.objective(self, view, out, target)
         self.strategy.step_pre_backward(self.params, self.optimizers, self.strategy_state, step, out.info)
         loss.backward()
@@ -205,11 +206,6 @@ class Trainer:
     @property
     def gaussians(self) -> Gaussians:
         return {k: v.detach() for k, v in self.params.items()}
-
-    @property
-    def downscale(self) -> int:
-        """The factor this step's views are reduced by (the coarse-to-fine schedule; 1 = full size)."""
-        return self.config.downscale_at(self.step_index)
 
     @property
     def sh_degree(self) -> int:
