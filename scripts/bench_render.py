@@ -1,6 +1,12 @@
 """Forward+backward cost of one render at a given Gaussian count: one joint pass or RGB and identity apart.
 
     python scripts/bench_render.py --scene DIR [--gaussians 300000] [--iters 50]
+    python scripts/bench_render.py --scene DIR --run RUN [--iters 100]
+
+With --run, the trained Gaussians of RUN's newest checkpoint (scripts/profile_train.py --save) render a training
+view's RGB (3 channels, the training step between identity steps) and RGB + 6 class logits (9 channels), forward
+and backward, at each of gsplat's tile sizes and with packed on and off: options that leave the image as it is
+and change only the kernels' work.
 
 gsplat compiles kernels for 1-5, 8, 9, 16, 17, 32, 33, ... channels and pads other counts, so our joint
 20 channels (RGB + 16 identity + depth) run as 32; two passes run as 4 and 16. Engine Python; CUDA.
@@ -18,7 +24,7 @@ import torch
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from engine.io.scene import load_scene  # noqa: E402
-from engine.render.rasterize import CameraTensors  # noqa: E402
+from engine.render.rasterize import EPS2D, NEAR_PLANE, CameraTensors  # noqa: E402
 
 
 def gaussians_like(scene, n: int, device) -> dict[str, torch.Tensor]:
@@ -41,16 +47,45 @@ def timed(fn, iters: int) -> float:
     return (time.perf_counter() - start) / iters * 1000
 
 
+def option_sweep(scene, run: Path, iters: int) -> None:
+    """Forward + backward of a trained state's render at each tile size, packed and not (see the docstring)."""
+    from gsplat import rasterization
+
+    from engine.train.run import latest_checkpoint
+
+    device = torch.device("cuda")
+    params = torch.load(latest_checkpoint(run), map_location="cpu", weights_only=False)["params"]
+    g = {k: v.to(device) for k, v in params.items()}
+    cam = CameraTensors.from_camera(scene.cameras[scene.train[0]], device)
+    features = torch.rand(len(g["means"]), 9, device=device, requires_grad=True)
+    for channels in (3, 9):
+        for packed in (False, True):
+            for tile in (8, 16, 32):
+                def step(channels=channels, packed=packed, tile=tile):
+                    image = rasterization(g["means"], g["quats"], torch.exp(g["scales"]),
+                                          torch.sigmoid(g["opacities"]), features[:, :channels], cam.viewmat[None],
+                                          cam.K[None], cam.width, cam.height, near_plane=NEAR_PLANE, eps2d=EPS2D,
+                                          sh_degree=None, packed=packed, tile_size=tile)[0]
+                    image.square().mean().backward()
+
+                print(f"{len(g['means'])} Gaussians, {cam.width}x{cam.height}, {channels} channels, packed={packed}, "
+                      f"tile {tile}: {timed(step, iters):.3f} ms", flush=True)
+
+
 def main() -> int:
     from gsplat import rasterization
 
     parser = argparse.ArgumentParser()
     parser.add_argument("--scene", required=True)
+    parser.add_argument("--run", type=Path, help="sweep gsplat's options on this run's trained Gaussians")
     parser.add_argument("--gaussians", type=int, default=300_000)
     parser.add_argument("--iters", type=int, default=50)
     args = parser.parse_args()
     device = torch.device("cuda")
     scene = load_scene(args.scene)
+    if args.run:
+        option_sweep(scene, args.run, args.iters)
+        return 0
     cam = CameraTensors.from_camera(scene.cameras[0], device)
     g = {k: v.to(device).requires_grad_(True) for k, v in gaussians_like(scene, args.gaussians, device).items()}
 
