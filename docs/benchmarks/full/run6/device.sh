@@ -33,15 +33,17 @@ recv)  # run 4's (wheels, scenes, weights, Ray; gsplat built behind from a copy 
   bash $RUN4 recv; python3 -c "import ray; print('ray', ray.__version__)" 2>&1 | tail -1;;
 train)  # GPU 3: the training schedules one after the other, then a profile of the default's step at 300k
   for k in $(seq 60); do grep -q built $B/gsplat.log && break; sleep 5; done
-  rm -rf $B/tcode; cp -r . $B/tcode; cd $B/tcode || exit 1; mkdir -p $B/t
-  (export CUDA_VISIBLE_DEVICES=3 OMP_NUM_THREADS=16 MKL_NUM_THREADS=16; S=$B/scenes/livingroom_s0
-   for v in "c1" "c2 --coarse-factor 2" "c4 --coarse-factor 4" "c4u7 --coarse-factor 4 --coarse-until 0.7"; do
-     set -- $v; name=$1; shift
-     python3 -m engine train --scene $S --out $B/t/$name --device cuda "$@" > $B/t/$name.log 2>&1
-     cp $B/t/$name/metrics.json $B/t/$name.metrics.json; cp $B/t/$name/config.json $B/t/$name.config.json; done
-   python3 scripts/profile_train.py --scene $S --until 7000 --steps 500 --json $B/t/profile.json > $B/t/profile.log 2>&1
-   echo done > $B/t/.done) > $B/t/chain.log 2>&1 < /dev/null & disown
+  rm -rf $B/tcode $B/t; cp -r . $B/tcode; mkdir -p $B/t  # setsid: a call's own process group ends with the call
+  (cd $B/tcode && setsid nohup bash docs/benchmarks/full/run6/device.sh chain > $B/t/chain.log 2>&1 < /dev/null &)
   sleep 20; ls $B/t; nvidia-smi --query-gpu=index,utilization.gpu,memory.used --format=csv;;
+chain)
+  export CUDA_VISIBLE_DEVICES=3 OMP_NUM_THREADS=16 MKL_NUM_THREADS=16; S=$B/scenes/livingroom_s0
+  for v in "c1" "c2 --coarse-factor 2" "c4 --coarse-factor 4" "c4u7 --coarse-factor 4 --coarse-until 0.7"; do
+    set -- $v; name=$1; shift
+    python3 -m engine train --scene $S --out $B/t/$name --device cuda "$@" > $B/t/$name.log 2>&1
+    cp $B/t/$name/metrics.json $B/t/$name.metrics.json; cp $B/t/$name/config.json $B/t/$name.config.json; done
+  python3 scripts/profile_train.py --scene $S --until 7000 --steps 500 --json $B/t/profile.json > $B/t/profile.log 2>&1
+  echo done > $B/t/.done;;
 start)
   for k in $(seq 60); do grep -q built $B/gsplat.log && break; sleep 5; done; cat $B/gsplat.log
   rm -rf $B/code; cp -r . $B/code; cd $B/code || exit 1  # the code as of this call, once the build from it is done
