@@ -7,7 +7,7 @@ saved under torchvision's file name, and our FID Inception's random initialisati
 measured on images, so that features do not vanish) saved as
 pt_inception-2015-12-05-6726825d.pth in a temporary TORCH_HOME, where pytorch-fid's loader finds it
 without downloading. Compared: LPIPS values and maps on smooth random image pairs; pool3 features; FID
-from pytorch-fid's calculate_frechet_distance (scipy's sqrtm) against ours (eigenvalues), on more images
+from pytorch-fid's calculate_frechet_distance (scipy's sqrtm) against ours (singular values), on more images
 than features so that scipy's sqrtm is well-posed. Writes docs/benchmarks/metrics_check.json.
 """
 
