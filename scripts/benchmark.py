@@ -193,6 +193,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="ray: cells as Ray tasks, one GPU each, on this machine's GPUs (or the cluster at "
                              "--ray-address); serial: one after the other in this process (also where Ray is absent)")
     parser.add_argument("--ray-address", default="", help="a running Ray cluster (default: start one here)")
+    parser.add_argument("--trainings-per-gpu", type=int, default=1,
+                        help="Ray: training stages (base runs, cells) that may share one GPU at once")
     parser.add_argument("--report-only", action="store_true",
                         help="run nothing: write the tables, chart and pictures from the cells already finished "
                              "(for example after several runs of single seeds into one --out)")
@@ -202,6 +204,8 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if not args.scenes or not args.out:
         parser.error("the following arguments are required: --scenes, --out")
+    if args.trainings_per_gpu < 1:
+        parser.error(f"--trainings-per-gpu {args.trainings_per_gpu}: give 1 or more")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     matrix = [(Path(s), seed, inp, m) for s in args.scenes for seed in args.seeds for inp in args.inpainters

@@ -75,23 +75,30 @@ def light(inpainter: str) -> bool:
     return kind is not None and not kind.needs.weights and not kind.needs.gpu
 
 
-def task_resources(gpus: float) -> dict[str, dict]:
-    """What each kind of task asks Ray for on a cluster with `gpus` GPUs: a GPU for training stages, a small share
-    of one for inpainting (so Ray still gives it a GPU of its own node to see), a CPU each where there are none."""
+def task_resources(gpus: float, trainings_per_gpu: int = 1) -> dict[str, dict]:
+    """What each kind of task asks Ray for on a cluster with `gpus` GPUs: a GPU for training stages (or an equal
+    share of one, `trainings_per_gpu` at once), a small share of one for inpainting (so Ray still gives it a GPU
+    of its own node to see), a CPU each where there are none.
+
+    Why more than one training a GPU may pay: at 300k Gaussians a training step is bound by the host (6.1 ms a
+    step, 4.9 ms of it kernels, docs/BENCHMARKS.md "Run 6"), so two processes could keep one GPU busier. Two at
+    once measured slower when the step was bound by its kernels; the default stays one until it is measured
+    again."""
     if gpus < 1:
         return {"train": {"num_cpus": 1}, "inpaint": {"num_cpus": 1}}
-    return {"train": {"num_gpus": 1 - INPAINT_GPU_SHARE}, "inpaint": {"num_gpus": INPAINT_GPU_SHARE}}
+    return {"train": {"num_gpus": (1 - INPAINT_GPU_SHARE) / trainings_per_gpu},
+            "inpaint": {"num_gpus": INPAINT_GPU_SHARE}}
 
 
-def start(address: str) -> dict[str, dict]:
+def start(args: argparse.Namespace) -> dict[str, dict]:
     """Connect to (or start) Ray with workers that import this folder; the resources each kind of task asks for."""
     import ray
 
     path = os.pathsep.join(p for p in (str(REPO), str(REPO / "scripts"), os.environ.get("PYTHONPATH", "")) if p)
     env = {"PYTHONPATH": path, **{k: v for k, v in os.environ.items() if k in PASSED or k.startswith("SPLATFILL_")}}
-    ray.init(address=address or None, runtime_env={"env_vars": env}, include_dashboard=False,
+    ray.init(address=args.ray_address or None, runtime_env={"env_vars": env}, include_dashboard=False,
              logging_level="ERROR", log_to_driver=False)
-    return task_resources(ray.cluster_resources().get("GPU", 0))
+    return task_resources(ray.cluster_resources().get("GPU", 0), args.trainings_per_gpu)
 
 
 def run_cells(matrix: list[tuple[Path, int, str, str]], sources: dict[str, str], work: Path,
@@ -100,7 +107,7 @@ def run_cells(matrix: list[tuple[Path, int, str, str]], sources: dict[str, str],
     reads ("removed" or "input")."""
     import ray
 
-    resources = start(args.ray_address)
+    resources = start(args)
     # no retries: a stage half done by a worker that died is not safe to start again in the same folder (the
     # engine refuses); run the benchmark again instead, which resumes from what is on disk
     base, inpaint, heavy, cell = (ray.remote(max_retries=0, **resources[kind])(f) for f, kind in (

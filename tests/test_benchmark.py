@@ -93,6 +93,8 @@ def test_an_inpainting_task_shares_a_gpu_with_one_training_task_and_two_training
     train, inpaint = units(on_gpus["train"]), units(on_gpus["inpaint"])
     assert train + inpaint <= 10_000 and 2 * train > 10_000 and inpaint > 0
     assert task_resources(0) == {"train": {"num_cpus": 1}, "inpaint": {"num_cpus": 1}}
+    two = units(task_resources(2, trainings_per_gpu=2)["train"])  # --trainings-per-gpu 2: two trainings and a sliver
+    assert 2 * two + inpaint <= 10_000 and 3 * two > 10_000
 
 
 def test_model_inpainters_take_a_gpu_of_their_own_and_the_light_ones_share():
