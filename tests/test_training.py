@@ -192,8 +192,9 @@ def test_the_photometric_loss_and_its_written_out_gradient_equal_autograds():
 
 
 def test_adam_step_equals_fused_adam_for_every_optimizer():
-    """engine.train.adam_step: the same numbers as each optimizer's own fused step, state where Adam keeps it."""
-    from engine.train.adam_step import adam_step
+    """engine.train.adam_step on AdamState: the same numbers as torch's Adam's own fused step, state where Adam
+    keeps it."""
+    from engine.train.adam_step import AdamState, adam_step
 
     gen = torch.Generator().manual_seed(0)
     shapes, lrs = [(40, 3), (40,), (7, 16)], [1e-2, 5e-3, 1e-2]
@@ -201,8 +202,9 @@ def test_adam_step_equals_fused_adam_for_every_optimizer():
     for _ in range(2):
         params = [torch.nn.Parameter(torch.randn(s, generator=torch.Generator().manual_seed(i)))
                   for i, s in enumerate(shapes)]
-        optimizers = [torch.optim.Adam([p], lr=lr, eps=1e-15, fused=True) for p, lr in zip(params, lrs, strict=False)]
-        runs.append((params, optimizers))
+        kind = (lambda ps, lr: torch.optim.Adam(ps, lr=lr, eps=1e-15, fused=True)) if not runs else (
+            lambda ps, lr: AdamState(ps, lr=lr, eps=1e-15))
+        runs.append((params, [kind([p], lr) for p, lr in zip(params, lrs, strict=True)]))
     for _ in range(5):
         grads = [torch.randn(s, generator=gen) for s in shapes]
         for params, _ in runs:
@@ -215,6 +217,43 @@ def test_adam_step_equals_fused_adam_for_every_optimizer():
     for (a, oa), (b, ob) in zip(zip(*runs[0], strict=False), zip(*runs[1], strict=False), strict=False):
         assert torch.equal(a, b) and b.grad is None
         assert float(ob.state[b]["step"]) == 5 and torch.equal(oa.state[a]["exp_avg_sq"], ob.state[b]["exp_avg_sq"])
+
+
+def test_adam_state_reads_and_writes_torch_adams_checkpoints():
+    """A run saved with torch's Adam resumes with AdamState and the other way round: after a state_dict round
+    trip each way, one more step gives the same parameters."""
+    from engine.train.adam_step import AdamState, adam_step
+
+    def params() -> list[torch.nn.Parameter]:
+        return [torch.nn.Parameter(torch.linspace(-1, 1, 12).reshape(4, 3)), torch.nn.Parameter(torch.ones(5))]
+
+    def grads(k: int, ps) -> None:
+        for i, p in enumerate(ps):
+            p.grad = torch.sin(torch.arange(p.numel(), dtype=torch.float32) + k + 7 * i).reshape(p.shape)
+
+    theirs, ours = params(), params()
+    torch_adam = torch.optim.Adam([{"params": theirs, "lr": 0.01, "name": "x"}], eps=1e-15, fused=True)
+    for k in range(3):
+        grads(k, theirs)
+        torch_adam.step()
+    moved = AdamState(ours, lr=0.5, eps=1e-15)  # the saved group's settings replace these
+    with torch.no_grad():
+        for a, b in zip(ours, theirs, strict=True):
+            a.copy_(b)
+    moved.load_state_dict(torch_adam.state_dict())
+    back = torch.optim.Adam(params(), lr=0.5, fused=True)
+    back.load_state_dict(moved.state_dict())
+    first_back = back.param_groups[0]["params"][0]
+    assert moved.param_groups[0]["lr"] == 0.01 and back.param_groups[0]["name"] == "x"
+    assert float(back.state[first_back]["step"]) == 3
+    torch.testing.assert_close(back.state[first_back]["exp_avg"], torch_adam.state[theirs[0]]["exp_avg"])
+    grads(3, theirs)
+    grads(3, ours)
+    torch_adam.step()
+    adam_step([moved])
+    for a, b in zip(ours, theirs, strict=True):
+        torch.testing.assert_close(a, b, rtol=0, atol=0)
+    assert float(moved.state[ours[0]]["step"]) == 4
 
 
 def test_budget_noise_equals_gsplat_mcmc_noise():

@@ -22,7 +22,7 @@ from engine.io.gaussians import PARAM_NAMES, Gaussians, init_from_points, new_cl
 from engine.io.scene import Scene
 from engine.metrics.image_metrics import psnr_from_mse
 from engine.render.rasterize import CameraTensors, render
-from engine.train.adam_step import adam_step
+from engine.train.adam_step import AdamState, adam_step
 from engine.train.budget_strategy import BudgetStrategy
 from engine.train.config import TrainConfig
 from engine.train.identity_regularizer import IdentityRegularizer
@@ -125,7 +125,7 @@ class Trainer:
         self.params = self._init_params(start)
         self.optimizers = {name: self._adam(name, p) for name, p in self.params.items()}
         self.classifier = (classifier or new_classifier(num_classes_of(scene))).to(device)
-        self.classifier_opt = torch.optim.Adam(self.classifier.parameters(), lr=config.lr_classifier, fused=True)
+        self.classifier_opt = AdamState(self.classifier.parameters(), lr=config.lr_classifier)
         self.strategy = self._strategy()
         self.strategy.check_sanity(self.params, self.optimizers)
         self.strategy_state = (self.strategy.initialize_state() if self.budget
@@ -156,9 +156,9 @@ class Trainer:
     def _parameters(self, tensors: Gaussians) -> torch.nn.ParameterDict:
         return torch.nn.ParameterDict({k: torch.nn.Parameter(tensors[k].to(self.device)) for k in PARAM_NAMES})
 
-    def _adam(self, name: str, param: torch.nn.Parameter) -> torch.optim.Adam:
+    def _adam(self, name: str, param: torch.nn.Parameter) -> AdamState:
         lr = getattr(self.config, f"lr_{name}") * (self.extent if name == "means" else 1.0)
-        return torch.optim.Adam([{"params": [param], "lr": lr, "name": name}], eps=1e-15, fused=True)
+        return AdamState([param], lr=lr, eps=1e-15, name=name)
 
     def _strategy(self) -> DefaultStrategy | BudgetStrategy:
         cfg = self.config
