@@ -1,5 +1,5 @@
-# Run 7 (issues 17, 18), prepared in session 20, not yet run: today's code (gsplat's tiles of 8 pixels, FID by
-# singular values) on one four-GPU host, everything at once:
+# Run 7 (issues 17, 18), prepared in session 20, not yet run: today's code (gsplat's tiles of 8 pixels, no
+# torch._dynamo import, FID by singular values) on one four-GPU host, everything at once:
 #   GPU 0: livingroom_s0 seed 0, Ray seeing this GPU alone, one training at a time (the default): issue 18's
 #          matrix on one GPU against run 6's 932 s and run 5's serial 876 s.
 #   GPU 1: the same with --trainings-per-gpu 2 (two cells training on the GPU at once; a step is bound by the
