@@ -124,6 +124,7 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
         return {**cell, "status": "not run", "reason": "not finished when the report was written (--report-only)"}
     if failed and not out.scores_json.is_file():
         return {**cell, "status": "failed", "reason": failed}
+    process = {}
     try:
         if not out.scores_json.is_file():
             stages.prepare(inpainter, kind.source)
@@ -131,7 +132,9 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
             flags = ["--method", kind.name, "--inpainter", inpainter, "--seed", str(stages.seed), "--device",
                      args.device, *_option_flags(options)]
             flags += ["--steps", str(steps)] if steps else []
+            started = time.perf_counter()
             run_engine(["complete", "--run", str(stages.run.root), "--out", str(out.root), *flags])
+            process = {"process": round(time.perf_counter() - started, 2)}  # start, imports, CUDA included
         report = json.loads(out.scores_json.read_text())
     except EngineError as exc:
         return {**cell, "status": "failed", "reason": str(exc)}
@@ -139,7 +142,8 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
             "settings": cell_settings(stages, inpainter, kind.source, report),
             "scene_dir": str(stages.scene), "renders": str(out.renders),
             "seconds": round(stages.seconds(kind.source, inpainter, report["seconds"]), 1),
-            "removed_scores": report["removed_scores"], "unavailable": report["unavailable"]}
+            "removed_scores": report["removed_scores"], "unavailable": report["unavailable"],
+            "phases": report.get("phases", {}) | process}
 
 
 BASE_KEYS = ("preset", "steps", "max_gaussians", "resolution", "sh_degree", "seed")

@@ -38,6 +38,9 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     # Init (warm, the default) and FT both continue from the base run's scene: --short-steps, not --complete-steps
     assert settings["complete"]["steps"] == 120 and cells[1]["settings"]["complete"]["steps"] == 120
     assert settings["versions"]["torch"] and settings["versions"]["engine"] and settings["gpu"] is None
+    phases = cells[0]["phases"]  # where the cell's time went: its own phases inside the engine process's time
+    assert phases["train"] >= phases["train_loop"] > 0
+    assert phases["process"] > sum(phases[k] for k in ("load", "scene", "train", "score"))
     table = (tmp_path / "tables.md").read_text()
     assert "| Removed (unfilled) |" in table and "| Init-fsr[warm] |" in table and "**" in table
     assert "Failed cells" in table and "LAMA_MODEL" in table

@@ -92,9 +92,12 @@ def config_from_args(args: argparse.Namespace) -> CompleteConfig:
 
 
 def run_complete(config: CompleteConfig) -> dict:
+    loading = time.perf_counter()
     job = _job(config)
     out, original = job.out, job.original
     start = time.perf_counter()
+    # where a cell's own time goes, seconds by phase (issue 18: a matrix's time is mostly its cells)
+    clock = {"load": start - loading}
     if config.resume:  # the training scene is there already, with the report of its making
         colmap = json.loads(out.recolmap_json.read_text()) if out.recolmap_json.is_file() else None
     else:
@@ -105,6 +108,7 @@ def run_complete(config: CompleteConfig) -> dict:
             colmap = job.method.after_scene(job, tmp)
         if colmap is not None:
             out.recolmap_json.write_text(json.dumps(colmap, indent=1))
+    clock["scene"] = time.perf_counter() - start
     settings = dataclasses.replace(original.config.with_steps(config.steps or original.config.steps),
                                    scene=str(out.scene.root), out=str(out.run.root), seed=config.seed,
                                    device=config.device, resolution=1)  # the scene is written at the run's size
@@ -112,7 +116,9 @@ def run_complete(config: CompleteConfig) -> dict:
     metrics = train(settings, resume=config.resume, plugins=plugins,
                     resume_hint="the same `python -m engine complete` command and --resume")
     seconds = time.perf_counter() - start
-    return _score(job, metrics, seconds, colmap)
+    clock["train"] = seconds - clock.get("scene", 0.0)
+    clock["train_loop"] = float(metrics.get("train_seconds", 0.0))
+    return _score(job, metrics, seconds, colmap, clock)
 
 
 def _job(config: CompleteConfig) -> CompletionJob:
@@ -144,8 +150,9 @@ def _job(config: CompleteConfig) -> CompletionJob:
     return job
 
 
-def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | None) -> dict:
+def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | None, clock: dict) -> dict:
     config, out = job.config, job.out
+    start = time.perf_counter()
     scorer = Scorer(ScoreConfig(lpips_backbone=config.lpips_backbone, lpips_heads=config.lpips_heads,
                                 fid_weights=config.fid_weights, device=str(job.device)))
     scores = score_run(out.run.root, scorer, renders=out.renders, scene=job.original.scene)
@@ -153,7 +160,9 @@ def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | Non
     name = job.method.title(config.inpainter, job.options)
     settings = {k: v for k, v in dataclasses.asdict(config).items() if k != "options"} | job.options
     settings["steps"] = metrics.get("steps") or config.steps  # what it trained, where --steps 0 left it to the method
+    clock["score"] = time.perf_counter() - start
     report = {"method": name, "config": settings, "seconds": round(seconds, 1),
+              "phases": {k: round(v, 2) for k, v in clock.items()},
               "gaussians": metrics["gaussians"], "scores": scores.values, "unavailable": scores.unavailable,
               "removed_scores": baseline.values, "recolmap": colmap}
     partial = out.root / ".scores.json.tmp"
