@@ -11,8 +11,9 @@ that fails is recorded with its one-line reason and the others go on. Runs of di
 may share one --out at the same time (their work folders differ); `--report-only` then writes the
 tables from every finished cell without running anything.
 
-Cells run as Ray tasks, one GPU each (scripts/benchmark_ray.py): on this machine's GPUs, or on a Ray cluster with
---ray-address; `--scheduler serial` (and any Python without Ray) runs them one after the other here.
+Cells run as Ray tasks, two trainings sharing each GPU (scripts/benchmark_ray.py, --trainings-per-gpu): on this
+machine's GPUs, or on a Ray cluster with --ray-address; `--scheduler serial` (and any Python without Ray) runs
+them one after the other here.
 
 Writes OUT/results.json and results.csv (one row per cell), and OUT/tables.md: per scene and averaged over
 scenes, the paper's columns (mean over seeds; best in bold), with the removed-but-unfilled scene as the
@@ -38,6 +39,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from blender_entry import add_repo_to_path, script_args  # noqa: E402
 
 add_repo_to_path()
+from benchmark_ray import TRAININGS_PER_GPU  # noqa: E402
 from benchmark_report import write_reports  # noqa: E402
 from benchmark_stages import Stages, run_cell  # noqa: E402
 
@@ -190,11 +192,13 @@ def main(argv: list[str] | None = None) -> int:
                         help="FT's perceptual term (lpips | st-lpips | l1; st-lpips's weights come with the set-up)")
     parser.add_argument("--device", default="auto")
     parser.add_argument("--scheduler", choices=("ray", "serial"), default="ray",
-                        help="ray: cells as Ray tasks, one GPU each, on this machine's GPUs (or the cluster at "
-                             "--ray-address); serial: one after the other in this process (also where Ray is absent)")
+                        help="ray: cells as Ray tasks sharing GPUs (--trainings-per-gpu), on this machine's GPUs "
+                             "(or the cluster at --ray-address); serial: one after the other in this process (also "
+                             "where Ray is absent)")
     parser.add_argument("--ray-address", default="", help="a running Ray cluster (default: start one here)")
-    parser.add_argument("--trainings-per-gpu", type=int, default=1,
-                        help="Ray: training stages (base runs, cells) that may share one GPU at once")
+    parser.add_argument("--trainings-per-gpu", type=int, default=TRAININGS_PER_GPU,
+                        help="Ray: training stages (base runs, cells) that may share one GPU at once (default: "
+                             f"{TRAININGS_PER_GPU}, the fastest measured)")
     parser.add_argument("--report-only", action="store_true",
                         help="run nothing: write the tables, chart and pictures from the cells already finished "
                              "(for example after several runs of single seeds into one --out)")

@@ -1,14 +1,14 @@
-"""The benchmark's cells as Ray tasks: one GPU each, on this machine's GPUs or on a Ray cluster (--ray-address).
+"""The benchmark's cells as Ray tasks: two trainings a GPU, on this machine's GPUs or on a Ray cluster (--ray-address).
 
 Why Ray: a scene's matrix is about five full trainings, and cells of different scenes, seeds and methods are
-independent once their shared stages are done; run one after another they leave every GPU but one idle (and
-two at once on one GPU measured slower than one after the other). The dependency graph per scene and seed:
-one `base` task (train, remove, holes), then one `inpaint` task per inpainter and source, then one task per
-cell; training tasks ask Ray for all but a sliver of a GPU and inpainting tasks for that sliver (a CPU each where
-the cluster has none: `task_resources`), and Ray sets CUDA_VISIBLE_DEVICES, so the engine processes a task starts
-see only its GPU. The tasks call the same Stages and run_cell as the serial path,
-so work on disk is skipped the same way and an interrupted run resumes; a failed stage fails its cells with its
-one-line reason, as serially. Workers find this folder and the repository through PYTHONPATH.
+independent once their shared stages are done; run one after another they leave every GPU but one idle. The
+dependency graph per scene and seed: one `base` task (train, remove, holes), then one `inpaint` task per inpainter
+and source, then one task per cell; training tasks ask Ray for half of what is left of a GPU once inpainting tasks
+have a sliver (TRAININGS_PER_GPU; a CPU each where the cluster has none: `task_resources`), and Ray sets
+CUDA_VISIBLE_DEVICES, so the engine processes a task starts see only its GPU. The tasks call the same Stages and
+run_cell as the serial path, so work on disk is skipped the same way and an interrupted run resumes; a failed stage
+fails its cells with its one-line reason, as serially. Workers find this folder and the repository through
+PYTHONPATH.
 """
 
 from __future__ import annotations
@@ -62,9 +62,14 @@ def cell_task(failed: str, scene: str, seed: int, inpainter: str, method: str, w
 # inpainters without model weights are CPU work (OpenCV) or a patch search of many small kernels (exemplar,
 # 150-159 s on 100 views for the direct baseline on an H100, run 3), so a whole GPU for them kept the cells
 # waiting: in run 3 the first cell started about 200 s after the base runs. With these shares such an inpainting
-# runs beside one training on a GPU, and two trainings never share one. Model inpainters (LaMa, diffusion) ask
+# runs beside the trainings on a GPU (TRAININGS_PER_GPU of them). Model inpainters (LaMa, diffusion) ask
 # for a training's share, as a training would.
 INPAINT_GPU_SHARE = 0.01
+# training stages on one GPU at once, by default. A step at 300k Gaussians is bound by the host (6.1 ms, 4.9 ms of
+# kernels), so two processes keep a GPU busier: livingroom's whole matrix on one H200 took 785 s with one at a
+# time and 603 / 595 s with two (two runs), 586 s with three, whose cells each took longer (docs/BENCHMARKS.md,
+# "Run 7"). Two at once measured slower in an early session, when a step was bound by its kernels.
+TRAININGS_PER_GPU = 2
 
 
 def light(inpainter: str) -> bool:
@@ -75,15 +80,10 @@ def light(inpainter: str) -> bool:
     return kind is not None and not kind.needs.weights and not kind.needs.gpu
 
 
-def task_resources(gpus: float, trainings_per_gpu: int = 1) -> dict[str, dict]:
-    """What each kind of task asks Ray for on a cluster with `gpus` GPUs: a GPU for training stages (or an equal
-    share of one, `trainings_per_gpu` at once), a small share of one for inpainting (so Ray still gives it a GPU
-    of its own node to see), a CPU each where there are none.
-
-    Why more than one training a GPU may pay: at 300k Gaussians a training step is bound by the host (6.1 ms a
-    step, 4.9 ms of it kernels, docs/BENCHMARKS.md "Run 6"), so two processes could keep one GPU busier. Two at
-    once measured slower when the step was bound by its kernels; the default stays one until it is measured
-    again."""
+def task_resources(gpus: float, trainings_per_gpu: int = TRAININGS_PER_GPU) -> dict[str, dict]:
+    """What each kind of task asks Ray for on a cluster with `gpus` GPUs: an equal share of a GPU for training
+    stages (`trainings_per_gpu` at once), a small share of one for inpainting (so Ray still gives it a GPU of its
+    own node to see), a CPU each where there are none."""
     if gpus < 1:
         return {"train": {"num_cpus": 1}, "inpaint": {"num_cpus": 1}}
     return {"train": {"num_gpus": (1 - INPAINT_GPU_SHARE) / trainings_per_gpu},

@@ -85,18 +85,18 @@ def test_cells_that_continue_from_the_base_run_take_the_short_steps_and_the_scra
     assert cell_method("init-scratch", args)[1]["warm"] is False and cell_method("init", args)[1]["warm"]
 
 
-def test_an_inpainting_task_shares_a_gpu_with_one_training_task_and_two_trainings_never_share():
+def test_an_inpainting_task_shares_a_gpu_with_the_trainings_and_no_more_trainings_than_asked_share_one():
     """Ray packs tasks onto a GPU while their shares add up to at most one (in units of 1e-4)."""
     from benchmark_ray import task_resources
 
     def units(kind: dict) -> int:
         return round(kind["num_gpus"] * 10_000)
 
-    on_gpus = task_resources(2)
-    train, inpaint = units(on_gpus["train"]), units(on_gpus["inpaint"])
+    one = task_resources(2, trainings_per_gpu=1)
+    train, inpaint = units(one["train"]), units(one["inpaint"])
     assert train + inpaint <= 10_000 and 2 * train > 10_000 and inpaint > 0
     assert task_resources(0) == {"train": {"num_cpus": 1}, "inpaint": {"num_cpus": 1}}
-    two = units(task_resources(2, trainings_per_gpu=2)["train"])  # --trainings-per-gpu 2: two trainings and a sliver
+    two = units(task_resources(2)["train"])  # the default: two trainings and a sliver
     assert 2 * two + inpaint <= 10_000 and 3 * two > 10_000
 
 
