@@ -1,4 +1,4 @@
-# Run 7 (issues 17, 18), prepared in session 20, not yet run: today's code (gsplat's tiles of 8 pixels, no
+# Run 7 (issues 16, 17, 18), prepared in session 20, run in session 21 (README.md beside this file): the code (gsplat's tiles of 8 pixels, no
 # torch._dynamo import, FID by singular values) on one four-GPU host, everything at once:
 #   GPU 0: livingroom_s0 seed 0, Ray seeing this GPU alone, one training at a time (the default): issue 18's
 #          matrix on one GPU against run 6's 932 s and run 5's serial 876 s.
