@@ -2,13 +2,14 @@
 
 Why Ray: a scene's matrix is about five full trainings, and cells of different scenes, seeds and methods are
 independent once their shared stages are done; run one after another they leave every GPU but one idle. The
-dependency graph per scene and seed: one `base` task (train, remove, holes), then one `inpaint` task per inpainter
-and source, then one task per cell; training tasks ask Ray for half of what is left of a GPU once inpainting tasks
-have a sliver (TRAININGS_PER_GPU; a CPU each where the cluster has none: `task_resources`), and Ray sets
-CUDA_VISIBLE_DEVICES, so the engine processes a task starts see only its GPU. The tasks call the same Stages and
-run_cell as the serial path, so work on disk is skipped the same way and an interrupted run resumes; a failed stage
-fails its cells with its one-line reason, as serially. Workers find this folder and the repository through
-PYTHONPATH.
+dependency graph per scene and seed: one `base` task (train, remove), one `holes` task after it, then one `inpaint`
+task per inpainter and source (after `holes` for the removed renders, after `base` for the input images: the direct
+baseline's inpainting, the matrix's longest, need not wait for the masks), then one task per cell; training tasks
+ask Ray for half of what is left of a GPU once inpainting tasks have a sliver (TRAININGS_PER_GPU; a CPU each where
+the cluster has none: `task_resources`), and Ray sets CUDA_VISIBLE_DEVICES, so the engine processes a task starts
+see only its GPU. The tasks call the same Stages and run_cell as the serial path, so work on disk is skipped the
+same way and an interrupted run resumes; a failed stage fails its cells with its one-line reason, as serially.
+Workers find this folder and the repository through PYTHONPATH.
 """
 
 from __future__ import annotations
@@ -42,8 +43,12 @@ def _reason(step) -> str:
 
 
 def base_task(scene: str, seed: int, work: str, args: argparse.Namespace) -> str:
-    """Train, remove and holes for one scene and seed; '' or the failure's reason."""
+    """Train and remove for one scene and seed; '' or the failure's reason."""
     return _reason(_stages(scene, seed, work, args).base)
+
+
+def holes_task(failed: str, scene: str, seed: int, work: str, args: argparse.Namespace) -> str:
+    return failed or _reason(_stages(scene, seed, work, args).holes)
 
 
 def inpaint_task(failed: str, scene: str, seed: int, inpainter: str, source: str, work: str,
@@ -110,16 +115,21 @@ def run_cells(matrix: list[tuple[Path, int, str, str]], sources: dict[str, str],
     resources = start(args)
     # no retries: a stage half done by a worker that died is not safe to start again in the same folder (the
     # engine refuses); run the benchmark again instead, which resumes from what is on disk
-    base, inpaint, heavy, cell = (ray.remote(max_retries=0, **resources[kind])(f) for f, kind in (
-        (base_task, "train"), (inpaint_task, "inpaint"), (inpaint_task, "train"), (cell_task, "train")))
-    bases, inpaints, pending = {}, {}, {}
+    # the hole masks are CPU work (numpy over the views' depth), so they ask for what a light inpainting does
+    base, holes, inpaint, heavy, cell = (ray.remote(max_retries=0, **resources[kind])(f) for f, kind in (
+        (base_task, "train"), (holes_task, "inpaint"), (inpaint_task, "inpaint"), (inpaint_task, "train"),
+        (cell_task, "train")))
+    bases, masks, inpaints, pending = {}, {}, {}, {}
     for k, (scene, seed, inpainter, method) in enumerate(matrix):
         key = (str(scene), seed)
         if key not in bases:  # once per scene and seed (setdefault would start a task each time)
             bases[key] = base.remote(*key, str(work), args)
         step = (*key, inpainter, sources[method])
+        if sources[method] == "removed" and key not in masks:
+            masks[key] = holes.remote(bases[key], *key, str(work), args)
         if step not in inpaints:
-            inpaints[step] = (inpaint if light(inpainter) else heavy).remote(bases[key], *step, str(work), args)
+            after = masks[key] if sources[method] == "removed" else bases[key]
+            inpaints[step] = (inpaint if light(inpainter) else heavy).remote(after, *step, str(work), args)
         pending[cell.remote(inpaints[step], *key, inpainter, method, str(work), args)] = k
     try:
         while pending:

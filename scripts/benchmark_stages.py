@@ -56,12 +56,17 @@ class Stages:
                                                    str(self.seed), *options, *resume])
 
     def base(self) -> None:
-        """Train, remove the target and mask its holes: what every cell of this scene and seed shares."""
-        device, run = ["--device", self.args.device], str(self.run.root)
+        """Train and remove the target: what every cell of this scene and seed shares."""
         self.train()
-        target = _target(self.scene)
-        self.stage("remove", self.run.removed.root, ["remove", "--run", run, "--object", target, *device])
-        self.stage("holes", self.run.holes.root, ["holes", "--run", run])
+        self.stage("remove", self.run.removed.root, ["remove", "--run", str(self.run.root), "--object",
+                                                     _target(self.scene), "--device", self.args.device])
+
+    def holes(self) -> None:
+        """The base stages, then the removed scene's hole masks: what the cells that inpaint its renders need.
+        The direct baseline paints the input images and does not wait for them (under Ray its inpainting, the
+        matrix's longest, starts one stage earlier)."""
+        self.base()
+        self.stage("holes", self.run.holes.root, ["holes", "--run", str(self.run.root)])
 
     def inpaint(self, inpainter: str, source: str) -> None:
         self.stage(_inpaint_key(inpainter, source), self.run.inpainted(inpainter, source).root,
@@ -69,7 +74,7 @@ class Stages:
                     "--dilate", str(self.args.dilate)])
 
     def prepare(self, inpainter: str, source: str) -> None:
-        self.base()
+        self.holes() if source == "removed" else self.base()
         self.inpaint(inpainter, source)
 
     def seconds(self, source: str, inpainter: str, complete: float) -> float:

@@ -3,6 +3,7 @@ is recorded, a resumed run repeats nothing."""
 
 from __future__ import annotations
 
+import argparse
 import json
 import subprocess
 import sys
@@ -67,6 +68,21 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     table = (tmp_path / "tables.md").read_text()
     assert "| Init-fsr[warm] |" in table and "## Cells not run" in table and "seed 1 Init-fsr[warm]" in table
     assert "| Init-fsr[warm] | 1/2 |" in (tmp_path / "stability.md").read_text()
+
+
+def test_the_direct_baseline_inpaints_without_waiting_for_the_hole_masks(living_scene: Path, tmp_path: Path,
+                                                                         monkeypatch):
+    """Its inpainting (the matrix's longest stage) needs the removal only; the other cells' need the masks too."""
+    from benchmark_stages import Stages
+
+    monkeypatch.setenv("SPLATFILL_ENGINE_PYTHON", sys.executable)
+    stages = Stages(living_scene, 0, tmp_path, argparse.Namespace(preset="tiny", max_gaussians=0, steps=100,
+                                                                  device="cpu", dilate=1))
+    stages.prepare("fsr", "input")
+    assert stages.run.inpainted("fsr", "input").root.is_dir() and stages.run.removed.root.is_dir()
+    assert not stages.run.holes.root.exists() and "holes" not in stages.times
+    stages.prepare("fsr", "removed")
+    assert stages.run.holes.root.is_dir() and stages.run.inpainted("fsr", "removed").root.is_dir()
 
 
 def test_cells_that_continue_from_the_base_run_take_the_short_steps_and_the_scratch_ones_the_complete_steps():
