@@ -5,7 +5,7 @@
 Copies SCENE/images into CAPTURE/images and runs SfM on them (SIFT, exhaustive matching, incremental
 mapping) with one SIMPLE_RADIAL camera of unknown focal length, as COLMAP's and capture apps' defaults
 do: CAPTURE/sparse holds the largest model, in SfM's own frame and scale. `--keep-truth` also copies
-what scores a result against the generator (gt/, holes/, split.json less the views SfM dropped: all per
+what scores a result against the generator (gt/, holes/, unseen/, split.json less the views SfM dropped: all per
 image, valid in any frame), never masks/. The tests and the README's "Your own capture" start from such
 a folder. Engine Python.
 """
@@ -33,7 +33,7 @@ def make_capture(scene: Path, out: Path, keep_truth: bool = False) -> dict:
         raise SystemExit(f"error: {out} exists: choose a new folder")
     shutil.copytree(source.images, target.images)
     if keep_truth:
-        for folder in (source.gt, source.holes):
+        for folder in (source.gt, source.holes, source.unseen):
             if folder.is_dir():
                 shutil.copytree(folder, out / folder.name)
     work = out / ".sfm"

@@ -31,7 +31,7 @@ def _joined_names(path: Path) -> set[str]:
 # the files and folders of a scene or run folder; engine/formats/layout.py alone joins them onto a path
 LAYOUT_NAMES = {"point_cloud.ply", "classifier.npz", "removal.json", "holes.json", "scores.json", "split.json",
                 "objects.json", "metrics.json", "config.json", "scene.json", "gt_depth", "inpainted", "removed",
-                "checkpoints", "sparse", "images", "depth", "masks", "gt", "holes", "renders", "complete"}
+                "checkpoints", "sparse", "images", "depth", "masks", "gt", "holes", "unseen", "renders", "complete"}
 
 
 # the same words for folders that are not ours: torch hub's weights, pycolmap's scratch reconstruction

@@ -73,6 +73,13 @@ def test_target_mask_covers_where_images_and_gt_differ_shadows_aside(any_scene: 
         assert changed[mask].any()  # the object was really removed
 
 
+def test_test_views_mark_what_no_training_view_saw_and_it_is_little(any_scene: Path):
+    scene = load_scene(any_scene)
+    assert sorted(scene.unseen) == scene.test
+    share = np.mean([scene.unseen[i].mean() for i in scene.test])
+    assert share < 0.3, share  # most of a test view is some training view's too
+
+
 def test_hole_masks_lie_inside_the_target_mask_and_are_smaller(any_scene: Path):
     scene = load_scene(any_scene)
     target = scene.target.id

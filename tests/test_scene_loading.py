@@ -75,7 +75,7 @@ def test_unknown_object_lists_the_objects_present(living_scene: Path):
 
 
 def test_a_plain_colmap_folder_loads_with_a_default_split(scene_copy: Path):
-    for extra in ("masks", "depth", "gt", "gt_depth", "holes", "split.json", "scene.json"):
+    for extra in ("masks", "depth", "gt", "gt_depth", "holes", "unseen", "split.json", "scene.json"):
         path = scene_copy / extra
         shutil.rmtree(path) if path.is_dir() else path.unlink()
     scene = load_scene(scene_copy, depth=True)

@@ -1,6 +1,6 @@
 """The scene folder a completion trains on: the original scene with the inpainted training images.
 
-sparse/, split.json, scene.json, gt/ and holes/ as they were; images/ the training views: the inpainted
+sparse/, split.json, scene.json, gt/, holes/ and unseen/ as they were; images/ the training views: the inpainted
 image (inside `keep` when a method gives regions, the input image elsewhere), the test views the ground
 truth when the scene has it (so the training run's own test PSNR means something; they are never trained
 on); masks/ with the removed object's id turned into background.
@@ -27,7 +27,7 @@ def write_training_scene(scene: Scene, inpainted: InpaintedLayout, target_id: in
     for path, copy in ((source.split_json, out.split_json), (source.scene_json, out.scene_json)):
         if path.is_file():
             shutil.copy2(path, copy)
-    for folder, copy in ((source.gt, out.gt), (source.holes, out.holes)):
+    for folder, copy in ((source.gt, out.gt), (source.holes, out.holes), (source.unseen, out.unseen)):
         if folder.is_dir():
             shutil.copytree(folder, copy)
     for i, camera in enumerate(scene.cameras):

@@ -77,6 +77,11 @@ class SceneLayout(Views):
         return self.root / "effects"
 
     @property
+    def unseen(self) -> Path:
+        """Per test view, the pixels no training view saw (the scores' seen-only PSNR leaves them out)."""
+        return self.root / "unseen"
+
+    @property
     def sparse(self) -> Path:
         return self.root / "sparse"
 

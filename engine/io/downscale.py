@@ -55,6 +55,7 @@ def _write(root: Path, factor: int, out: Path) -> None:
         _resize(source.masks / png, target.masks / png, size, cv2.INTER_NEAREST, kind="mask")
         _resize(source.holes / png, target.holes / png, size, cv2.INTER_NEAREST, kind="mask")
         _resize(source.effects / png, target.effects / png, size, cv2.INTER_NEAREST, kind="mask")
+        _resize(source.unseen / png, target.unseen / png, size, cv2.INTER_NEAREST, kind="mask")
         for folder, copy in ((source.depth, target.depth), (source.gt_depth, target.gt_depth)):
             path = folder / exr_name(camera.name)
             if path.is_file():

@@ -9,6 +9,7 @@ Folder layout (file names shared across folders, e.g. 0000.png):
   gt/, gt_depth/       the same cameras with the target removed                  optional (all or test views)
   holes/               ground-truth hole masks (255 = hole) for gt views         optional
   effects/             ground-truth effect masks (255 = the target's shadow etc.)  optional (gt views)
+  unseen/              pixels no training view saw (255), from the generator's depth  optional (test views)
   split.json           {"train": [names], "test": [names]}                       optional (default: every 8th)
 
 Everything present is loaded and checked, or loading fails with one line naming the file; the depth maps
@@ -62,6 +63,7 @@ class Scene:
     gt_depths: dict[int, np.ndarray] = field(default_factory=dict)
     holes: dict[int, np.ndarray] = field(default_factory=dict)  # (H, W) bool
     effects: dict[int, np.ndarray] = field(default_factory=dict)  # (H, W) bool
+    unseen: dict[int, np.ndarray] = field(default_factory=dict)  # (H, W) bool
 
     @property
     def names(self) -> list[str]:
@@ -104,6 +106,7 @@ def load_scene(root: Path | str, resolution: int = 1, depth: bool = False) -> Sc
     scene.gt_depths = _read_optional_views(layout.gt_depth, scene, _read_view_depth) if depth else {}
     scene.holes = _read_optional_views(layout.holes, scene, lambda p, c: _read_view_mask(p, c) > 127)
     scene.effects = _read_optional_views(layout.effects, scene, lambda p, c: _read_view_mask(p, c) > 127)
+    scene.unseen = _read_optional_views(layout.unseen, scene, lambda p, c: _read_view_mask(p, c) > 127)
     return scene
 
 

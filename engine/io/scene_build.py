@@ -25,7 +25,7 @@ from engine.formats.layout import RendersLayout, SceneLayout
 from engine.io.colmap_model import ColmapModel, write_model
 from engine.io.image_io import linear_to_srgb8, read_exr_channels, write_depth, write_png
 from engine.io.masks import dilate
-from engine.io.visibility import exact_tolerance, seen_by_any, unseen_mask
+from engine.io.visibility import exact_tolerance, seen_by_any, unseen_mask, unseen_view_pixels
 
 BACKGROUND_DEPTH = 1e9  # Cycles writes 1e10 where a ray hits nothing; stored as inf
 EFFECT_DIFF = 12  # of 255: a change this large is the object's doing, not Cycles' noise between two renders
@@ -79,7 +79,7 @@ def build_scene(renders: Path, out: Path, config: BuildConfig = BuildConfig()) -
     train = [i for i, c in enumerate(cameras) if c.name in set(split["train"])]
     with atomic_output_dir(out) as tmp_root:
         tmp = SceneLayout(tmp_root)
-        for sub in (tmp.images, tmp.masks, tmp.depth, tmp.gt, tmp.gt_depth, tmp.holes, tmp.effects):
+        for sub in (tmp.images, tmp.masks, tmp.depth, tmp.gt, tmp.gt_depth, tmp.holes, tmp.effects, tmp.unseen):
             sub.mkdir()
         views = _write_views(source.with_object, cameras, tmp.images, tmp.depth, tmp.masks)
         gt_names = sorted(p.stem for p in source.without_object.glob("*.exr"))
@@ -94,6 +94,7 @@ def build_scene(renders: Path, out: Path, config: BuildConfig = BuildConfig()) -
             write_png(tmp.effects / cameras[i].name, (effect * 255).astype(np.uint8))
             progress.update(k + 1)
         progress.close()
+        write_unseen_views(cameras, [v.depth for v in views], train, split["test"], tmp.unseen, config.rel_tol)
         model = sample_points(cameras, views, train, config)
         write_model(tmp.sparse / "0", model)
         tmp.objects_json.write_text(json.dumps(objects, indent=1))
@@ -101,6 +102,16 @@ def build_scene(renders: Path, out: Path, config: BuildConfig = BuildConfig()) -
         shutil.copy(source.meta_json, tmp.scene_json)
     emit("done", out=str(out))
     return out
+
+
+def write_unseen_views(cameras: list[Camera], depths: list[np.ndarray], train: list[int], test: list[str],
+                       out: Path, rel_tol: float) -> None:
+    """unseen/: per test view, the pixels no training view saw (engine.io.visibility.unseen_view_pixels)."""
+    seen_by, names = ([cameras[j] for j in train], [depths[j] for j in train]), set(test)
+    for i, camera in enumerate(cameras):
+        if camera.name in names:
+            unseen = unseen_view_pixels(camera, depths[i], *seen_by, rel_tol)
+            write_png(out / camera.name, (unseen * 255).astype(np.uint8))
 
 
 def effect_region(image: np.ndarray, gt: np.ndarray, target: np.ndarray) -> np.ndarray:

@@ -69,7 +69,7 @@ def _undistort_aligned(scene: SceneLayout, model_dir: Path, out: Path) -> None:
            .values()}
     pinhole = {Path(c.name).stem: c for c in read_model(SceneLayout(out).sparse).cameras}
     for folder, kind in ((scene.masks, "mask"), (scene.holes, "mask"), (scene.effects, "mask"),
-                         (scene.gt, "image"), (scene.depth, "depth"),
+                         (scene.unseen, "mask"), (scene.gt, "image"), (scene.depth, "depth"),
                          (scene.gt_depth, "depth")):
         if not folder.is_dir():
             continue

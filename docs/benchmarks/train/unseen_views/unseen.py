@@ -1,12 +1,11 @@
 """Issue 17's worst test view: how much of each test view no training view saw, from the generator's exact depth,
-and (given a run's test renders) each view's PSNR over the pixels some training view saw.
+and (given a run's test renders) each view's PSNR over all pixels and over those some training view saw.
 
-A surface point is seen when a training view has it in frame, in front, and not behind its own surface there
-(engine.io.visibility.seen_by_any at the scene's exact tolerance). Sky (infinite depth) is a direction: seen when a
-training view has that direction in frame and shows sky there too. What no training view saw, no training can
-know; a test view that shows much of it falls below the others whatever the training does.
+The masks are engine.io.visibility.unseen_view_pixels, which the scene generator now writes as unseen/ and the
+evaluation reads (metrics.json: psnr_seen_per_view, worst_view_gap_seen). `--write` adds unseen/ to a scene
+generated before that (it has depth/), so the benchmark's packed scenes carry it.
 
-    python3 unseen.py SCENE [RENDERS]
+    python3 unseen.py SCENE [RENDERS] [--write]
 """
 
 from __future__ import annotations
@@ -17,48 +16,34 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from engine.formats.cameras import Camera, backproject, pixel_grid, project, sample_nearest
+from engine.formats.layout import SceneLayout
 from engine.io.scene import load_scene
-from engine.io.visibility import exact_tolerance, seen_by_any
-
-FAR = 1e4  # a sky pixel's point along its ray: far enough that only its direction counts
-
-
-def seen_pixels(camera: Camera, depth: np.ndarray, train: list[Camera], depths: list[np.ndarray],
-                tol: float) -> np.ndarray:
-    """(H, W) bool: the test view's pixels some training view saw."""
-    u, v = pixel_grid(camera)
-    sky = ~np.isfinite(depth)
-    seen = np.zeros(depth.shape, bool)
-    surface = backproject(camera, u[~sky], v[~sky], depth[~sky])
-    seen[~sky] = seen_by_any(surface, train, depths, tol)
-    ahead = backproject(camera, u[sky], v[sky], np.full(int(sky.sum()), FAR)) - camera.center
-    sky_seen = np.zeros(len(ahead), bool)
-    for other, other_depth in zip(train, depths, strict=True):
-        pu, pv, z = project(other, other.center + ahead)
-        shown, inside = sample_nearest(other_depth, pu, pv)
-        sky_seen |= inside & (z > 0) & ~np.isfinite(shown)
-    seen[sky] = sky_seen
-    return seen
+from engine.io.scene_build import write_unseen_views
+from engine.io.visibility import exact_tolerance, unseen_view_pixels
 
 
-def main(scene_dir: Path, renders: Path | None) -> None:
+def main(scene_dir: Path, renders: Path | None, write: bool) -> None:
     scene = load_scene(scene_dir, depth=True)
-    depth_of = scene.depths
     train = [scene.cameras[i] for i in scene.train]
-    depths = [depth_of[i] for i in scene.train]
+    depths = [scene.depths[i] for i in scene.train]
     tol = exact_tolerance(scene.cameras)
+    if write:
+        out = SceneLayout(scene_dir).unseen
+        if out.exists():
+            raise SystemExit(f"{out} exists already")
+        out.mkdir()
+        write_unseen_views(scene.cameras, scene.depths, scene.train, [scene.names[i] for i in scene.test], out, tol)
     rows = []
     for i in scene.test:
         camera = scene.cameras[i]
-        seen = seen_pixels(camera, depth_of[i], train, depths, tol)
-        row = {"view": camera.name, "unseen_share": 1 - seen.mean()}
+        unseen = unseen_view_pixels(camera, scene.depths[i], train, depths, tol)
+        row = {"view": camera.name, "unseen_share": float(unseen.mean())}
         if renders is not None:
             render = cv2.imread(str(renders / camera.name))[..., ::-1].astype(np.float64)
             err = ((render - scene.images[i].astype(np.float64)) ** 2).mean(-1)
             row |= {"psnr": 10 * np.log10(255 ** 2 / err.mean()),
-                    "psnr_seen": 10 * np.log10(255 ** 2 / err[seen].mean()),
-                    "unseen_error_share": err[~seen].sum() / err.sum()}
+                    "psnr_seen": 10 * np.log10(255 ** 2 / err[~unseen].mean()),
+                    "unseen_error_share": err[unseen].sum() / err.sum()}
         rows.append(row)
     for row in rows:
         print("  ".join(f"{k} {v:.4f}" if isinstance(v, float) else f"{k} {v}" for k, v in row.items()))
@@ -69,4 +54,6 @@ def main(scene_dir: Path, renders: Path | None) -> None:
 
 
 if __name__ == "__main__":
-    main(Path(sys.argv[1]), Path(sys.argv[2]) if len(sys.argv) > 2 else None)
+    flags = [a for a in sys.argv[1:] if a.startswith("--")]
+    paths = [Path(a) for a in sys.argv[1:] if not a.startswith("--")]
+    main(paths[0], paths[1] if len(paths) > 1 else None, "--write" in flags)
