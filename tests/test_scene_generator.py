@@ -73,11 +73,17 @@ def test_target_mask_covers_where_images_and_gt_differ_shadows_aside(any_scene: 
         assert changed[mask].any()  # the object was really removed
 
 
-def test_test_views_mark_what_no_training_view_saw_and_it_is_little(any_scene: Path):
-    scene = load_scene(any_scene)
+def test_test_views_mark_what_no_training_view_saw_the_far_dome_not_the_object(any_scene: Path):
+    """The object in the middle, which every training view faces, is seen (1% unseen on the tiny scenes); what lies
+    far behind it, which few of the seven training views have in frame, holds the unseen pixels (a third of a view
+    here, 0-1.5% at 640x480 with 90 training views)."""
+    scene = load_scene(any_scene, depth=True)
     assert sorted(scene.unseen) == scene.test
-    share = np.mean([scene.unseen[i].mean() for i in scene.test])
-    assert share < 0.3, share  # most of a test view is some training view's too
+    for i in scene.test:
+        unseen, depth = scene.unseen[i], scene.depths[i]
+        on_target = unseen[scene.masks[i] == scene.target.id].mean()
+        assert on_target < 0.05, on_target
+        assert unseen[depth > np.percentile(depth, 75)].mean() > 5 * on_target
 
 
 def test_hole_masks_lie_inside_the_target_mask_and_are_smaller(any_scene: Path):
