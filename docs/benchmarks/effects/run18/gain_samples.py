@@ -14,36 +14,19 @@ whether a variant keeps the truth's channel order.
     PYTHONPATH=. python docs/benchmarks/effects/run18/gain_samples.py .bench/640/livingroom_s0
 """
 
-import math
 import sys
+from pathlib import Path
 
 import cv2
 import numpy as np
-import torch
 
-from engine.edit.effects import EffectsConfig, Samples, find_shadow
 from engine.edit.plane_grid import Site
-from engine.edit.support_plane import object_support
-from engine.formats.cameras import backproject, mean_up
-from engine.io.scene import load_scene
 
-scene = load_scene(sys.argv[1], depth=True)
-tid = scene.target.id
-views = scene.train[::2]
-cams = [scene.cameras[i] for i in views]
-regions = [scene.masks[i] == tid for i in views]
-samples = Samples.from_views(cams, [scene.images[i] for i in views], [scene.depths[i] for i in views], regions)
-obj = np.concatenate([backproject(scene.cameras[i], xs + 0.5, ys + 0.5, scene.depths[i][ys, xs])
-                      for i in views for ys, xs in [np.nonzero(scene.masks[i] == tid)]])
-obj = obj[np.random.default_rng(0).choice(len(obj), 20000, replace=False)]
-up = mean_up(np.stack([c.R for c in scene.cameras]))
-pts = samples.points[np.random.default_rng(1).choice(len(samples.points), 150000, replace=False)]
-n = len(pts)
-remaining = {"means": torch.as_tensor(pts, dtype=torch.float32), "quats": torch.tensor([[1.0, 0, 0, 0]]).repeat(n, 1),
-             "scales": torch.full((n, 3), math.log(0.003)), "opacities": torch.full((n,), 3.0),
-             "sh0": torch.zeros(n, 1, 3), "shN": torch.zeros(n, 15, 3), "identity": torch.zeros(n, 16)}
-plane = object_support(pts, obj, up)
-shadow = find_shadow(remaining, obj, plane, samples, EffectsConfig()).shadow
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "run16"))
+from emulate_gain import exact_search  # noqa: E402
+
+found = exact_search(sys.argv[1])
+scene, samples, obj, plane, shadow = found.scene, found.samples, found.obj, found.plane, found.search.shadow
 truth = [(scene.gt_images[i][e].astype(float) + 1) / (scene.images[i][e].astype(float) + 1)
          for i in scene.test if i in scene.gt_images and i in scene.effects for e in [scene.effects[i]] if e.any()]
 print("truth, gt / input in effects/, 50th and 75th percentile:",
