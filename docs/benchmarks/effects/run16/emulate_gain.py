@@ -68,7 +68,7 @@ def main(scene_dir: str) -> None:
         darkness = _darkness(picked, picked, shadow.dark)
         relit = samples.colors.copy()
         relit[shadow.pick] = samples.colors[shadow.pick] * (1 + darkness[:, None] * (shadow.gain[None] - 1))
-        residual = residual_gain(shadow, Samples(samples.points, relit))
+        residual = residual_gain(shadow, samples, Samples(samples.points, relit))
         print("residual after an exact relight of the samples", residual.round(3))
 
 
