@@ -116,7 +116,7 @@ def run_complete(config: CompleteConfig) -> dict:
     metrics = train(settings, resume=config.resume, plugins=plugins,
                     resume_hint="the same `python -m engine complete` command and --resume")
     seconds = time.perf_counter() - start
-    clock["train"] = seconds - clock.get("scene", 0.0)
+    clock["train"] = seconds - clock["scene"]
     clock["train_loop"] = float(metrics.get("train_seconds", 0.0))
     return _score(job, metrics, seconds, colmap, clock)
 

@@ -35,7 +35,12 @@ def evaluate_views(scene: Scene, views: list[int], gaussians: Gaussians, classif
             "identity_miou": iou.miou() if scene.masks is not None else None, "views": len(views),
             # floaters show as one view far below the others (a haze band, a cloud at a table's edge)
             "psnr_per_view": {scene.cameras[i].name: round(p, 2) for i, p in zip(views, psnrs, strict=True)},
-            "worst_view_gap": round(mean - min(psnrs), 2) if psnrs else None, **_seen_only(seen_psnrs)}
+            "worst_view_gap": _worst_gap(psnrs), **_seen_only(seen_psnrs)}
+
+
+def _worst_gap(psnrs: list[float]) -> float | None:
+    """How far the worst view lies below the views' mean."""
+    return round(sum(psnrs) / len(psnrs) - min(psnrs), 2) if psnrs else None
 
 
 def _seen_only(per_view: dict[str, float]) -> dict:
@@ -44,5 +49,4 @@ def _seen_only(per_view: dict[str, float]) -> dict:
     view: 6.4 dB below the mean over all pixels, 2.6 over the seen ones; docs/BENCHMARKS.md, "Run 7")."""
     if not per_view:
         return {}
-    mean = sum(per_view.values()) / len(per_view)
-    return {"psnr_seen_per_view": per_view, "worst_view_gap_seen": round(mean - min(per_view.values()), 2)}
+    return {"psnr_seen_per_view": per_view, "worst_view_gap_seen": _worst_gap(list(per_view.values()))}
