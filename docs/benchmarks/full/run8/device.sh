@@ -15,7 +15,9 @@
 #   4 carry .bench/fid1 .bench/fid2                      `device.sh recv`
 #   5 carry .bench/fid3 .bench/fid4                      `device.sh recv`
 #   6 carry .bench/full_2                                `device.sh recv && device.sh start`  (the tabletop)
-#   then `device.sh wait N` until done, `device.sh collect`
+#   then `device.sh wait N` until livingroom seed 0's matrix is done, `device.sh exemplar` (session 22: exemplar
+#   on GPU 0 over that run's 100 direct regions, one view at a time against 4 and 8 processes, beside the other
+#   matrices), `device.sh wait N` until all are done, `device.sh collect`
 B=/tmp/b; mkdir -p $B
 export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3) SPLATFILL_WEIGHTS=/tmp/weights
 METHODS="init reference ft3 ftall direct"; INPAINTERS="telea exemplar"; RUN4=docs/benchmarks/full/run4/device.sh
@@ -36,7 +38,11 @@ start)  # every chain whose scene has arrived and that has not started
   done
   sleep 30; tail -n 2 $B/runner_*.log; nvidia-smi --query-gpu=index,utilization.gpu,memory.used --format=csv;;
 wait)
-  bash $RUN4 wait $2; for f in $B/start_*; do echo "$f $(cat $f)"; done;;
+  bash $RUN4 wait $2; for f in $B/start_*; do echo "$f $(cat $f)"; done; cat $B/ex/*.txt 2>/dev/null;;
+exemplar)  # in the background; its table lands in $B/ex and comes back with collect
+  mkdir -p $B/ex; cd $B/code && CUDA_VISIBLE_DEVICES=0 OUT=$B/ex RUN=$B/o_livingroom_s0_0/work/livingroom_s0/seed0/run \
+    SOURCE=input WORKERS="1 4 8" PARALLEL=processes setsid nohup bash docs/benchmarks/inpaint/gpu_workers.sh \
+    > $B/ex/log 2>&1 < /dev/null & sleep 5; cat $B/ex/log;;
 collect)  # records and sheets through run 6's and run 3's collectors, one seed at a time; then what run 8 adds
   mkdir -p $B/out/work; for c in $CHAINS; do IFS=: read gpu sc s <<< "$c"; mkdir -p $B/out/work/$sc
     ln -sfn $B/o_${sc}_$s/work/$sc/seed$s $B/out/work/$sc/seed$s; done
@@ -51,5 +57,5 @@ collect)  # records and sheets through run 6's and run 3's collectors, one seed 
       $r/point_cloud.ply --cameras $B/cams.json --out $B/render_${sc}_$s --device cuda > /dev/null 2>&1
     (cd $B/render_${sc}_$s && tar czf $B/base/${sc}_$s.tgz $(python3 -c \
       "import json,sys; print(*json.load(open(sys.argv[1]))['test'])" $B/scenes/$sc/split.json)); done
-  (cd $B && tar czf $OUT/base.tgz base runner_*.log) ; ls -la $OUT $OUT/*;;
+  (cd $B && tar czf $OUT/base.tgz base runner_*.log ex) ; ls -la $OUT $OUT/*;;
 esac
