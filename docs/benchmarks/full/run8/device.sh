@@ -21,7 +21,7 @@
 B=/tmp/b; mkdir -p $B
 export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3) SPLATFILL_WEIGHTS=/tmp/weights
 METHODS="init reference ft3 ftall direct"; INPAINTERS="telea exemplar"; RUN4=docs/benchmarks/full/run4/device.sh
-CHAINS="0:livingroom_s0:0 1:statue_s0:0 2:livingroom_s0:1 3:tabletop_s0:0"  # GPU:scene:seed
+CHAINS=${CHAINS:-"0:livingroom_s0:0 1:statue_s0:0 2:livingroom_s0:1 3:tabletop_s0:0"}  # GPU:scene:seed (session 22 on two GPUs: livingroom seed 0 and the tabletop)
 built() { for k in $(seq 60); do grep -q built $B/gsplat.log && break; sleep 5; done; cat $B/gsplat.log; }
 case $1 in
 recv)
