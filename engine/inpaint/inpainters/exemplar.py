@@ -10,7 +10,7 @@ an isophote flows into the hole, so linear structures are continued first); the 
 priority takes the patch from the known region around the hole that best matches its known pixels (sum
 of squared differences), copies it into its unknown pixels, and passes its confidence on to them. Source
 patches come from the originally known pixels within a window around the hole (the hole's bounding box
-grown by its own size, at least WINDOW_MARGIN px), so the search is one correlation of that window per patch.
+grown by its own size, at least WINDOW_MARGIN px), so the search is one matrix-vector product per patch.
 """
 
 from __future__ import annotations
@@ -75,7 +75,8 @@ def exemplar_fill(image: np.ndarray, mask: np.ndarray, patch: int = PATCH) -> np
     confidence = (~unknown).astype(np.float32)
     inside = np.pad(np.ones(mask[win_r, win_c].shape, bool), half, mode="constant", constant_values=False)
     device = torch.device("cuda" if torch.cuda.is_available() else "cpu")
-    planes, index, offsets = _source_planes(work, inside & ~unknown, patch, device)
+    sources, offsets = _source_patches(work, inside & ~unknown, patch, device)
+    squares = sources * sources
     h, w = unknown.shape
     priority = _priority(work, unknown, confidence, patch)
     left = int(unknown.sum())
@@ -84,7 +85,7 @@ def exemplar_fill(image: np.ndarray, mask: np.ndarray, patch: int = PATCH) -> np
         r, c = min(max(r, half), h - half - 1), min(max(c, half), w - half - 1)
         rows, cols = slice(r - half, r + half + 1), slice(c - half, c + half + 1)
         fill = unknown[rows, cols].copy()
-        best = _best_source(planes, index, work[rows, cols], ~fill)
+        best = _best_source(sources, squares, work[rows, cols], ~fill, device)
         sr, sc = offsets[best]
         work[rows, cols][fill] = work[sr - half:sr + half + 1, sc - half:sc + half + 1][fill]
         confidence[rows, cols][fill] = confidence[rows, cols].sum() / patch ** 2
@@ -109,37 +110,28 @@ def _update(priority: np.ndarray, work: np.ndarray, unknown: np.ndarray, confide
     priority[ia:ib, ja:jb] = local[ia - outer[0][0]:ib - outer[0][0], ja - outer[1][0]:jb - outer[1][0]]
 
 
-def _source_planes(work: np.ndarray, known: np.ndarray, patch: int, device: torch.device
-                   ) -> tuple[torch.Tensor, torch.Tensor, np.ndarray]:
-    """The window's pixels less 128 and their squares as six planes (1, 6, H, W); where every patch whose pixels
-    are all known (and inside the image: the window is padded) lies in their correlation with a patch-sized
-    kernel, flattened; and that patch's centre (row, col).
-
-    Less 128 keeps every product and partial sum of the search an integer under 2**24, so it is exact in float32
-    in any order (float64 on a GPU, whose float32 convolutions may run through TF32 or transforms)."""
+def _source_patches(work: np.ndarray, known: np.ndarray, patch: int, device: torch.device
+                    ) -> tuple[torch.Tensor, np.ndarray]:
+    """Every patch of the window whose pixels are all known (and inside the image: the window is padded)
+    as a row (N, patch * patch * 3), and its centre (row, col)."""
     half = patch // 2
     whole = cv2.erode(known.astype(np.uint8), np.ones((patch, patch), np.uint8),
                       borderType=cv2.BORDER_CONSTANT, borderValue=0) > 0
     centres = np.argwhere(whole)
-    values = torch.as_tensor(work - 128.0, device=device, dtype=torch.float32).permute(2, 0, 1)
-    planes = torch.cat([values, values * values])[None].contiguous()
+    picture = torch.as_tensor(work, device=device).permute(2, 0, 1)[None]
+    columns = torch.nn.functional.unfold(picture, patch)[0].T  # (positions, 3 * patch * patch), row-major
     width = work.shape[1] - 2 * half
     index = torch.as_tensor((centres[:, 0] - half) * width + (centres[:, 1] - half), device=device)
-    return planes, index, centres
+    return columns[index].contiguous(), centres
 
 
-def _best_source(planes: torch.Tensor, index: torch.Tensor, target: np.ndarray, target_known: np.ndarray
-                 ) -> int:
-    """The source patch of least SSD over the target's known pixels: sum w (s - t)^2 = sum w s^2 - 2 sum w t s
-    + const, both sums one correlation of the six planes with a kernel (w, w, w for the squares; -2 w t for the
-    values), read at the source patches. It reads the window once (a few MB), where a matrix of every source
-    patch was read twice a step (hundreds of MB at 640x480), which bound a view on a GPU, in processes too."""
-    weight = torch.as_tensor(target_known, device=planes.device, dtype=planes.dtype)
-    values = torch.as_tensor(np.ascontiguousarray(target.transpose(2, 0, 1)) - 128.0, device=planes.device,
-                             dtype=planes.dtype)
-    kernel = torch.cat([-2 * weight * values, weight.expand(3, -1, -1)])[None]
-    with torch.backends.cudnn.flags(enabled=True, benchmark=False, deterministic=True, allow_tf32=False):
-        ssd = torch.nn.functional.conv2d(planes, kernel).view(-1)[index]
+def _best_source(sources: torch.Tensor, squares: torch.Tensor, target: np.ndarray, target_known: np.ndarray,
+                 device: torch.device) -> int:
+    """The source patch of least SSD over the target's known pixels (unfold's channel-major order)."""
+    values = torch.as_tensor(np.ascontiguousarray(target.transpose(2, 0, 1)).reshape(-1), device=device)
+    weight = torch.as_tensor(np.tile(target_known.reshape(-1), 3), device=device, dtype=torch.float32)
+    # sum w (s - t)^2 = (s^2) . w - 2 s . (w t) + const
+    ssd = squares @ weight - 2 * (sources @ (weight * values))
     return int(torch.argmin(ssd))
 
 
