@@ -139,13 +139,13 @@ def _best_source(sources: torch.Tensor, squares: torch.Tensor, target: np.ndarra
 class Exemplar(Inpainter):
     summary = "exemplar-based texture synthesis (Criminisi 2004), ours, in torch"
 
-    def parallel_views(self) -> str:
+    def parallel_views(self) -> bool:
         """On the CPU its patch search is many small torch ops, which one view cannot spread over cores (two
-        views in two threads: 1.98x one after the other at 640x480). On a GPU a view is bound by Python (about a
-        thousand patches, each a few small kernels and a wait for the best match), so threads, which share the
-        lock, gain nothing (1.02x on 16 synthetic views, 0.87x on a livingroom's 100 direct regions on an H200,
-        run 5); processes each have their own."""
-        return "processes" if torch.cuda.is_available() else "threads"
+        views in two threads: 1.98x one after the other at 640x480). On a GPU, threads gain nothing: eight
+        against one view at a time, 1.02x on 16 synthetic views and 0.87x on a livingroom's 100 direct regions
+        on an H200, fills identical (docs/BENCHMARKS.md, run 5). Nor do processes, each with its own lock: the
+        GPU is what the views share (1.09x with four, 1.07x with eight on those 100 regions, run 8; 39ece91)."""
+        return not torch.cuda.is_available()
 
     def inpaint_rgb(self, image, mask, prompt):
         return exemplar_fill(image, mask)
