@@ -144,8 +144,8 @@ class Exemplar(Inpainter):
         views in two threads: 1.98x one after the other at 640x480). On a GPU, threads gain nothing: eight
         against one view at a time, 1.02x on 16 synthetic views and 0.87x on a livingroom's 100 direct regions
         on an H200, fills identical (docs/BENCHMARKS.md, run 5). Nor do processes, each with its own lock: the
-        GPU is what the views share (1.09x with four, 1.07x with eight on those 100 regions, run 8, 39ece91: within the 9% that runs of
-        one view at a time differ by)."""
+        GPU is what the views share (1.09x with four, 1.07x with eight on those 100 regions, run 8, 39ece91:
+        within the 9% that runs of one view at a time differ by)."""
         return not torch.cuda.is_available()
 
     def inpaint_rgb(self, image, mask, prompt):
