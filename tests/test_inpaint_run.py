@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import os
 import shutil
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -54,25 +58,29 @@ def test_fsr_fills_every_hole_and_passes_views_without_one_through(stages):
 
 
 def test_views_inpainted_at_once_give_what_one_after_the_other_gives(stages):
-    """Threads change when a view is filled, never what: the same images, depth and sheets (whose rows keep
-    view order although views finish in any order); a failing view stops the run and nothing is written."""
+    """Threads and processes change when a view is filled, never what: the same images, depth and sheets (whose
+    rows keep view order although views finish in any order)."""
     outs = {}
-    for workers in (1, 3):
-        outs[workers] = stages["work"] / f"telea_{workers}"
+    for workers, parallel in ((1, ""), (3, "threads"), (2, "processes")):
+        outs[parallel] = stages["work"] / f"telea_{workers}_{parallel}"
         report = run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="telea", removed=str(stages["removed"]),
-                                           holes=str(stages["holes"]), out=str(outs[workers]), workers=workers))
-        assert report["workers"] == workers
-    for name in sorted(p.name for p in (outs[1] / "images").iterdir()):
-        assert (read_png(outs[1] / "images" / name) == read_png(outs[3] / "images" / name)).all()
-        a, b = (read_depth(outs[k] / "depth" / exr_name(name)) for k in (1, 3))
-        np.testing.assert_array_equal(a, b)
-    for sheet in ("sheet_train.png", "sheet_test.png"):
-        assert (outs[1] / sheet).is_file() == (outs[3] / sheet).is_file()
-        if (outs[1] / sheet).is_file():
-            assert (read_png(outs[1] / sheet) == read_png(outs[3] / sheet)).all()
+                                           holes=str(stages["holes"]), out=str(outs[parallel]), workers=workers,
+                                           parallel=parallel))
+        assert (report["workers"], report["parallel"]) == (workers, parallel)
+    one = outs[""]
+    for out in (outs["threads"], outs["processes"]):
+        for name in sorted(p.name for p in (one / "images").iterdir()):
+            assert (read_png(one / "images" / name) == read_png(out / "images" / name)).all()
+            a, b = (read_depth(folder / "depth" / exr_name(name)) for folder in (one, out))
+            np.testing.assert_array_equal(a, b)
+        for sheet in ("sheet_train.png", "sheet_test.png"):
+            assert (one / sheet).is_file() == (out / sheet).is_file()
+            if (one / sheet).is_file():
+                assert (read_png(one / sheet) == read_png(out / sheet)).all()
 
 
-def test_a_corrupt_view_stops_a_threaded_inpainting_and_writes_nothing(stages, tmp_path):
+@pytest.mark.parametrize("parallel", ["threads", "processes"])
+def test_a_corrupt_view_stops_a_parallel_inpainting_and_writes_nothing(stages, tmp_path, parallel):
     removed = tmp_path / "removed"
     shutil.copytree(stages["removed"], removed)
     broken = sorted((removed / "images").iterdir())[2]
@@ -80,8 +88,36 @@ def test_a_corrupt_view_stops_a_threaded_inpainting_and_writes_nothing(stages, t
     out = tmp_path / "telea"
     with pytest.raises(InputError, match=broken.name):
         run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="telea", removed=str(removed),
-                                  holes=str(stages["holes"]), out=str(out), workers=2))
+                                  holes=str(stages["holes"]), out=str(out), workers=2,
+                                  parallel=parallel))
     assert not out.exists()
+
+
+def _running(pid: int) -> bool:
+    """Whether process `pid` still runs (a zombie no one has reaped yet has ended)."""
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().split(") ")[1][0] != "Z"
+    except (FileNotFoundError, IndexError):
+        return False
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").is_file(), reason="reads process states from /proc")
+def test_worker_processes_end_with_a_parent_killed_outright():
+    """Ray cancelling a task or `kill -9` gives the pool no chance to shut down; its workers, each holding a GPU
+    context on a GPU, must not wait for work forever."""
+    code = ("import os, time\nfrom engine.inpaint.run import _pool\npool = _pool(2, 'processes')\n"
+            "print(*{pool.submit(os.getpid).result() for _ in range(4)}, flush=True)\ntime.sleep(120)\n")
+    root = Path(__file__).resolve().parents[1]
+    parent = subprocess.Popen([sys.executable, "-c", code], cwd=root, stdout=subprocess.PIPE, text=True,
+                              env={**os.environ, "PYTHONPATH": str(root)})
+    workers = [int(pid) for pid in parent.stdout.readline().split()]
+    assert workers and all(_running(pid) for pid in workers)
+    parent.kill()
+    parent.wait()
+    deadline = time.monotonic() + 15
+    while any(_running(pid) for pid in workers) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert not any(_running(pid) for pid in workers)
 
 
 def test_nanobanana_paints_the_input_images_with_the_paper_prompt_and_never_writes_the_key(stages, monkeypatch,

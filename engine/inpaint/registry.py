@@ -47,10 +47,11 @@ class Inpainter:
     needs: ClassVar[Needs] = Needs()
     uses_mask: ClassVar[bool] = True  # False: paints the object out of the original image from a prompt
 
-    def parallel_views(self) -> bool:
-        """Whether a run may inpaint several views at once in threads: CPU work that lets go of Python's lock
-        (OpenCV, torch on the CPU). Models on a GPU and remote services go one view at a time."""
-        return False
+    def parallel_views(self) -> str:
+        """How a run may inpaint several views at once: "threads" for CPU work that lets go of Python's lock
+        (OpenCV, torch on the CPU), "processes" for work bound by Python itself (many small steps each), ""
+        for one view at a time (models on a GPU, remote services)."""
+        return ""
 
     def default_prompt(self, scene_root: Path) -> str | None:
         """The prompt for a scene when the user gives none (None: this inpainter needs no prompt)."""

@@ -12,12 +12,15 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import multiprocessing
 import os
+import threading
 import time
-from concurrent.futures import ThreadPoolExecutor, as_completed
+from concurrent.futures import Executor, ProcessPoolExecutor, ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
+import cv2
 import numpy as np
 import torch
 
@@ -34,6 +37,7 @@ from engine.pictures.preview import colorize_depth, label, overlay
 from engine.train.trained_run import load_run_scene
 
 SHEET_ROWS = 6
+PARENT_POLL_S = 1.0  # how often a worker process checks that its parent still runs
 
 
 def inpainted_dilation(inpainted: InpaintedLayout) -> int:
@@ -54,6 +58,7 @@ class InpaintConfig:
     holes: str = ""  # default RUN/holes
     out: str = ""  # default RUN/inpainted/<inpainter>
     workers: int = 0  # views inpainted at once (0: the cores, up to 8, where the inpainter allows it; else 1)
+    parallel: str = ""  # threads | processes: how views go at once ("": the inpainter's Inpainter.parallel_views)
 
 
 def _inpainter(config: InpaintConfig):
@@ -81,23 +86,14 @@ def run_inpaint(config: InpaintConfig) -> dict:
     plane = None if direct else removal_plane(removed)
     prompt = config.prompt or inpainter.default_prompt(scene.root)
     sheets = _SheetRows(scene.test)
-    workers = _workers(config, inpainter)
+    workers, parallel = _workers(config, inpainter)
     start = time.perf_counter()
     with atomic_output_dir(out) as tmp_root:
         tmp = InpaintedLayout(tmp_root)
-
-        def one(i: int) -> np.ndarray | None:
-            camera = scene.cameras[i]
-            if not direct:
-                return _fill_hole(inpainter, config, prompt, scene.images[i], camera, plane, removed, holes, tmp)
-            # the direct baseline: the object painted out of the input image (its region), RGB only
-            region = dilate(_direct_region(removed, camera.name), config.dilate) if inpainter.uses_mask else None
-            filled = inpainter.inpaint(scene.images[i], region, "rgb", prompt)
-            write_png(tmp.images / camera.name, filled)
-            return np.concatenate([label(scene.images[i], f"{camera.name} input"), label(filled, "inpainted")], 1)
-
+        job = _ViewJob(inpainter, config.dilate, prompt, direct, plane, removed, holes, tmp)
+        views = [(scene.images[i], scene.cameras[i]) for i in range(len(scene.cameras))]
         progress = Progress(f"inpaint {config.inpainter}", len(scene.cameras))
-        for done, (i, row) in enumerate(_each_view(one, len(scene.cameras), workers), start=1):
+        for done, (i, row) in enumerate(_each_view(job, views, workers, parallel), start=1):
             sheets.add(i, row)
             progress.update(done)
         progress.close()
@@ -106,32 +102,63 @@ def run_inpaint(config: InpaintConfig) -> dict:
             if rows:
                 write_png(tmp.sheet_of(split), np.concatenate(rows, axis=0))
         report = {"config": dataclasses.asdict(config), "prompt": prompt, "views": len(scene.cameras),
-                  "inpaint_seconds": round(seconds, 2), "workers": workers}
+                  "inpaint_seconds": round(seconds, 2), "workers": workers, "parallel": parallel}
         tmp.config_json.write_text(json.dumps(report, indent=1))
     emit("done", stage="inpaint", out=str(out), seconds=report["inpaint_seconds"])
     return report
 
 
-def _workers(config: InpaintConfig, inpainter) -> int:
-    """Views inpainted at once: --workers, else as many as there are cores (8 at most) where the inpainter
-    allows it (Inpainter.parallel_views), else one."""
-    if config.workers > 0:
-        return config.workers
-    return min(os.cpu_count() or 1, 8) if inpainter.parallel_views() else 1
+def _workers(config: InpaintConfig, inpainter) -> tuple[int, str]:
+    """Views inpainted at once and how: --workers, else as many as there are cores (8 at most) where the
+    inpainter allows it (Inpainter.parallel_views), else one; in the inpainter's threads or processes unless
+    --parallel says which."""
+    mode = config.parallel or inpainter.parallel_views()
+    if mode not in ("", "threads", "processes"):
+        raise InputError(f"parallel {config.parallel!r} unknown: use 'threads' or 'processes'")
+    workers = config.workers if config.workers > 0 else min(os.cpu_count() or 1, 8) if mode else 1
+    return workers, (mode or "threads") if workers > 1 else ""
 
 
-def _each_view(fill, count: int, workers: int):
+@dataclass
+class _ViewJob:
+    """One view's inpainting with everything it needs held by value or by path, so that a worker process can
+    run it from a pickled copy (the inpainter too: those that ask for processes hold no weights)."""
+
+    inpainter: object
+    dilate: int
+    prompt: str | None
+    direct: bool
+    plane: tuple[np.ndarray, float] | None
+    removed: RemovedLayout
+    holes: HolesLayout
+    out: InpaintedLayout
+
+    def __call__(self, image: np.ndarray, camera: Camera) -> np.ndarray | None:
+        """Fill one view and write it under `out`; its contact sheet row, or None if it has no hole."""
+        if not self.direct:
+            return _fill_hole(self.inpainter, self.dilate, self.prompt, image, camera, self.plane, self.removed,
+                              self.holes, self.out)
+        # the direct baseline: the object painted out of the input image (its region), RGB only
+        uses_mask = self.inpainter.uses_mask
+        region = dilate(_direct_region(self.removed, camera.name), self.dilate) if uses_mask else None
+        filled = self.inpainter.inpaint(image, region, "rgb", self.prompt)
+        write_png(self.out.images / camera.name, filled)
+        return np.concatenate([label(image, f"{camera.name} input"), label(filled, "inpainted")], 1)
+
+
+def _each_view(job: _ViewJob, views: list[tuple[np.ndarray, Camera]], workers: int, parallel: str):
     """(view index, its sheet row) for every view, in the order they finish: one after the other, or `workers`
-    threads at once, with torch kept to one thread each meanwhile (a view's small ops cannot use more, and
-    threads of threads only contend). A failing view stops the rest and its error propagates."""
+    threads or processes at once. Threads keep torch to one thread each meanwhile (a view's small ops cannot
+    use more, and threads of threads only contend); processes are spawned (CUDA cannot be forked) and do the
+    same in themselves. A failing view stops the rest and its error propagates."""
     if workers <= 1:
-        yield from ((i, fill(i)) for i in range(count))
+        yield from ((i, job(*view)) for i, view in enumerate(views))
         return
     threads = torch.get_num_threads()
     torch.set_num_threads(1)
     try:
-        with ThreadPoolExecutor(workers) as pool:
-            futures = {pool.submit(fill, i): i for i in range(count)}
+        with _pool(workers, parallel) as pool:
+            futures = {pool.submit(job, *view): i for i, view in enumerate(views)}
             try:
                 for future in as_completed(futures):
                     yield futures[future], future.result()
@@ -140,6 +167,28 @@ def _each_view(fill, count: int, workers: int):
                     future.cancel()
     finally:
         torch.set_num_threads(threads)
+
+
+def _pool(workers: int, parallel: str) -> Executor:
+    if parallel == "processes":
+        return ProcessPoolExecutor(workers, multiprocessing.get_context("spawn"), initializer=_start_worker,
+                                   initargs=(os.getpid(),))
+    return ThreadPoolExecutor(workers)
+
+
+def _start_worker(parent: int) -> None:
+    """A worker process inpaints one view at a time: torch and OpenCV keep to one thread, as threads do. It ends
+    when its parent does: a parent killed outright (Ray cancelling a task, `kill -9`) leaves its pool's workers
+    waiting for work forever, each holding a GPU context."""
+    torch.set_num_threads(1)
+    cv2.setNumThreads(1)
+    threading.Thread(target=_end_with, args=(parent,), daemon=True).start()
+
+
+def _end_with(parent: int) -> None:
+    while os.getppid() == parent:
+        time.sleep(PARENT_POLL_S)
+    os._exit(1)
 
 
 class _SheetRows:
@@ -169,7 +218,7 @@ def _direct_region(removed: RemovedLayout, name: str) -> np.ndarray:
     return region | (read_png(effects, kind="mask") > 0) if effects.is_file() else region
 
 
-def _fill_hole(inpainter, config: InpaintConfig, prompt: str | None, image: np.ndarray, camera: Camera,
+def _fill_hole(inpainter, dilation: int, prompt: str | None, image: np.ndarray, camera: Camera,
                plane: tuple[np.ndarray, float] | None, removed: RemovedLayout, holes: HolesLayout,
                out: InpaintedLayout) -> np.ndarray | None:
     """Inpaint one view's hole in the removed render, RGB and depth; its sheet row, or None if no hole.
@@ -180,7 +229,7 @@ def _fill_hole(inpainter, config: InpaintConfig, prompt: str | None, image: np.n
     name = camera.name
     rgb = read_png(removed.images / name)
     depth = read_depth(removed.depth / exr_name(name))
-    hole = dilate(read_png(holes.mask(name), kind="mask") > 0, config.dilate)
+    hole = dilate(read_png(holes.mask(name), kind="mask") > 0, dilation)
     filled = inpainter.inpaint(rgb, hole, "rgb", prompt)
     filled_depth = inpainter.inpaint(depth, hole, "depth", prompt)
     if plane is not None and hole.any():

@@ -139,14 +139,15 @@ def _best_source(sources: torch.Tensor, squares: torch.Tensor, target: np.ndarra
 class Exemplar(Inpainter):
     summary = "exemplar-based texture synthesis (Criminisi 2004), ours, in torch"
 
-    def parallel_views(self) -> bool:
+    def parallel_views(self) -> str:
         """On the CPU its patch search is many small torch ops, which one view cannot spread over cores (two
-        views in two threads: 1.98x one after the other at 640x480). On a GPU, threads gain nothing: eight
-        against one view at a time, 1.02x on 16 synthetic views and 0.87x on a livingroom's 100 direct regions
-        on an H200, fills identical (docs/BENCHMARKS.md, run 5). Nor do processes, each with its own lock: the
-        GPU is what the views share (1.09x with four, 1.07x with eight on those 100 regions, run 8, 39ece91:
-        within the 9% that runs of one view at a time differ by)."""
-        return not torch.cuda.is_available()
+        views in two threads: 1.98x one after the other at 640x480). On a GPU, threads gain nothing (1.02x on 16
+        synthetic views, 0.87x on a livingroom's 100 direct regions on an H200, run 5). Processes, on those 100
+        regions alone on an H200, 1.09x with four and 1.07x with eight (run 8: within the 9% that runs of one
+        view at a time differ by); beside the matrix's two trainings a GPU, 217 s with eight in run 8 against
+        309-329 s one at a time in run 7 (another host's load; not measured side by side). The processes take
+        a larger share of a GPU shared with trainings, on the benchmark's critical path (Direct's inpainting)."""
+        return "processes" if torch.cuda.is_available() else "threads"
 
     def inpaint_rgb(self, image, mask, prompt):
         return exemplar_fill(image, mask)

@@ -16,8 +16,8 @@ RADIUS = 5  # px of neighbourhood Telea and Navier-Stokes look at
 class OpenCvInpainter(Inpainter):
     """OpenCV's inpainters run in C++ without Python's lock, so a run's views can go at once."""
 
-    def parallel_views(self) -> bool:
-        return True
+    def parallel_views(self) -> str:
+        return "threads"
 
 
 @register("telea")
