@@ -1,4 +1,4 @@
-# Run 8 (issues 16, 17, 18), prepared in session 21, not yet run: the code after run 7 (two trainings a GPU by
+# Run 8 (issues 16, 17, 18), prepared in session 21, run in session 22 on two GPUs (README.md): the code after run 7 (two trainings a GPU by
 # default, the hole masks a Ray task of their own that the direct baseline's inpainting does not wait for, scenes
 # with unseen/ so every training reports worst_view_gap_seen) on one four-GPU host, one scene's matrix per GPU,
 # each under its own Ray instance seeing that GPU alone (so each is issue 18's one-GPU matrix):
