@@ -93,6 +93,18 @@ def test_a_corrupt_view_stops_a_parallel_inpainting_and_writes_nothing(stages, t
     assert not out.exists()
 
 
+def test_views_go_as_the_inpainter_says_unless_told_and_an_unknown_way_is_a_clear_error():
+    from engine.inpaint.registry import create
+    from engine.inpaint.run import _workers
+
+    telea = create("telea")
+    assert _workers(InpaintConfig(workers=2), telea) == (2, "threads")
+    assert _workers(InpaintConfig(workers=2, parallel="processes"), telea) == (2, "processes")
+    assert _workers(InpaintConfig(workers=1, parallel="processes"), telea) == (1, "")
+    with pytest.raises(InputError, match="'threads' or 'processes'"):
+        _workers(InpaintConfig(parallel="fibers"), telea)
+
+
 def _running(pid: int) -> bool:
     """Whether process `pid` still runs (a zombie no one has reaped yet has ended)."""
     try:

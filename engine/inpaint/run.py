@@ -115,7 +115,10 @@ def _workers(config: InpaintConfig, inpainter) -> tuple[int, str]:
     mode = config.parallel or inpainter.parallel_views()
     if mode not in ("", "threads", "processes"):
         raise InputError(f"parallel {config.parallel!r} unknown: use 'threads' or 'processes'")
-    workers = config.workers if config.workers > 0 else min(os.cpu_count() or 1, 8) if mode else 1
+    if config.workers > 0:
+        workers = config.workers
+    else:
+        workers = min(os.cpu_count() or 1, 8) if mode else 1
     return workers, (mode or "threads") if workers > 1 else ""
 
 
