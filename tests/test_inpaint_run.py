@@ -20,7 +20,8 @@ from engine.edit.removal import RemovalConfig, run_removal
 from engine.edit.support_plane import removal_plane, stop_at_plane
 from engine.formats.layout import RemovedLayout
 from engine.inpaint.inpainters.nanobanana import PAPER_PROMPTS
-from engine.inpaint.run import InpaintConfig, run_inpaint
+from engine.inpaint.registry import create
+from engine.inpaint.run import InpaintConfig, _workers, run_inpaint
 from engine.io.image_io import exr_name, read_depth, read_png
 from engine.io.masks import dilate
 from engine.train.trained_run import load_run_scene
@@ -94,9 +95,6 @@ def test_a_corrupt_view_stops_a_parallel_inpainting_and_writes_nothing(stages, t
 
 
 def test_views_go_as_the_inpainter_says_unless_told_and_an_unknown_way_is_a_clear_error():
-    from engine.inpaint.registry import create
-    from engine.inpaint.run import _workers
-
     telea = create("telea")
     assert _workers(InpaintConfig(workers=2), telea) == (2, "threads")
     assert _workers(InpaintConfig(workers=2, parallel="processes"), telea) == (2, "processes")

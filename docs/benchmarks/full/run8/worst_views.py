@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from engine.io.image_io import read_png
+from engine.metrics.image_metrics import psnr_from_mse
 
 BLOCK = 40  # px
 
@@ -28,7 +29,7 @@ def _row(scene: Path, render: Path) -> tuple[str, float, float, float, tuple[int
     h, w = (n // BLOCK * BLOCK for n in err.shape)
     blocks = err[:h, :w].reshape(h // BLOCK, BLOCK, w // BLOCK, BLOCK).mean((1, 3))
     worst = np.unravel_index(blocks.argmax(), blocks.shape)
-    return (render.name, -10 * np.log10(err.mean()), -10 * np.log10(err[~unseen].mean()), top,
+    return (render.name, psnr_from_mse(err.mean()), psnr_from_mse(err[~unseen].mean()), top,
             (int(worst[0]), int(worst[1])), blocks.max() / err.mean())
 
 
