@@ -180,7 +180,8 @@ def _pool(workers: int, parallel: str) -> Executor:
 
 
 def _start_worker(parent: int) -> None:
-    """A worker process inpaints one view at a time: torch and OpenCV keep to one thread, as threads do. It ends
+    """A worker process inpaints one view at a time: torch keeps to one thread, as in the threads' way, and
+    OpenCV too (the threads share their process's OpenCV pool; a process has its own). It ends
     when its parent does: a parent killed outright (Ray cancelling a task, `kill -9`) leaves its pool's workers
     waiting for work forever, each holding a GPU context."""
     torch.set_num_threads(1)
