@@ -1,20 +1,43 @@
-# Run 9 (issue 18, item 1; issue 16's spread over seeds), prepared in session 22, not yet run: for a two-GPU host
-# (the only multi-GPU kind lent in session 22). Run 8 measured one scene's matrix on one H200 (livingroom_s0,
-# seed 0: 559 s); this measures the same matrix over both GPUs of one host under one Ray instance (issue 18: at
-# least 1.8x shorter than on one, at most 6 min), then, on the same warm host, livingroom seed 1 and the statue,
-# one matrix a GPU (the spread over seeds at today's code; the statue's matrix at today's code).
-# Everything goes through run 8's script with its chains given (GPUs:scene:seed; "0,1" lets one Ray see both):
-#   1 carry .whl .bench/full_1                  `R8 recv`                       (gsplat builds behind)
-#   2 carry .bench/ray1 .bench/full_3           `R8 recv`
-#   3 carry .bench/ray2                         `R8 recv && CHAINS="0,1:livingroom_s0:0" R8 start`
-#   4 carry .bench/fid1 .bench/full_4           `R8 recv`                       (the statue's second part)
-#   5 carry .bench/fid2 .bench/fid3             `R8 recv`
-#   6 carry .bench/fid4                         `R8 recv`
-#   then `R8 wait N` until done; `CHAINS="0,1:livingroom_s0:0" R8 collect` (its wall time and records: a call);
-#   then `CHAINS="0:livingroom_s0:1 1:statue_s0:0" R8 start`, `R8 wait N`, and collect with those chains.
-# (R8 = bash docs/benchmarks/full/run8/device.sh.) The tree is 8.5 MiB: no call may carry more than about 55 MiB.
-# The prediction (run 8's livingroom stages: training 172 s, removal 24.5, holes 28.2, Direct's exemplar 217 s
-# beside the cells; ten cells of 28-68 s each, two trainings a GPU): about 200 s of base stages on one GPU, then
-# the cells over four training slots instead of two, so about 200 + 360 / 2 = 380 s: 1.5x, short of 1.8x, and
-# just over 6 min. Where the base stages bound it is what the issue's target needs the user's decision on.
-exec bash docs/benchmarks/full/run8/device.sh "$@"
+# Run 9 (issue 18, item 1; issue 16's spread over seeds), run in session 23 on a four-GPU host: livingroom_s0's
+# whole matrix on one GPU and, beside it on the same host at the same time, the same matrix (same seed) under one
+# Ray instance that sees two GPUs; on the fourth GPU, livingroom seed 1 (issue 16's second seed at today's code).
+# Side by side, so the ratio is of one host and one load (run 8's 559 s came from another host). Chains are
+# GPUs:scene:seed[:tag]; a tag keeps a chain's folder, start time and log apart from an untagged one of the same
+# scene and seed. Everything else is run 8's script (R8 = bash docs/benchmarks/full/run8/device.sh):
+#   1 carry .whl .bench/full_1            `R9 recv`           (livingroom; gsplat builds behind)
+#   2 carry .bench/ray1                   `R9 recv`
+#   3 carry .bench/ray2                   `R9 recv && R9 start`
+#   4 carry .bench/fid1 .bench/fid2       `R9 recv`
+#   5 carry .bench/fid3 .bench/fid4       `R9 recv`
+#   then `R9 wait N` until done, `R9 collect` (the untagged chains through run 8's collect; the tagged one's
+#   records, log and start time beside them).
+# The prediction from run 8's livingroom (training 172 s, removal 24.5, holes 28.2, then ten cells in two
+# training slots a GPU): about 200 s of base stages on one GPU, then the cells over four slots instead of two,
+# so about 200 + 360 / 2 = 380 s against 559: 1.5x, short of issue 18's 1.8x (the base stages stay serial).
+B=/tmp/b; R8=docs/benchmarks/full/run8/device.sh
+export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3) SPLATFILL_WEIGHTS=/tmp/weights
+METHODS="init reference ft3 ftall direct"; INPAINTERS="telea exemplar"
+CHAINS=${CHAINS:-"0:livingroom_s0:0 1,2:livingroom_s0:0:x2 3:livingroom_s0:1"}
+untagged() { for c in $CHAINS; do [ $(tr -cd : <<< "$c" | wc -c) = 2 ] && echo -n "$c "; done; }
+case $1 in
+start)
+  for k in $(seq 60); do grep -q built $B/gsplat.log && break; sleep 5; done; cat $B/gsplat.log
+  [ -f $B/code/.copied ] || { rm -rf $B/code; cp -r . $B/code; touch $B/code/.copied; }
+  cd $B/code || exit 1
+  for c in $CHAINS; do IFS=: read gpu sc s tag <<< "$c"; name=${sc}_$s${tag:+_$tag}
+    [ -f $B/scenes/$sc/.ready ] && [ ! -f $B/start_$name ] || continue
+    date +%s > $B/start_$name
+    CUDA_VISIBLE_DEVICES=$gpu setsid nohup python3 scripts/benchmark.py --scenes $B/scenes/$sc --methods $METHODS \
+      --inpainters $INPAINTERS --seeds $s --out $B/o_$name --complete-steps 10000 --device cuda \
+      > $B/runner_$name.log 2>&1 < /dev/null &
+  done
+  sleep 30; tail -n 2 $B/runner_*.log; nvidia-smi --query-gpu=index,name,utilization.gpu,memory.used --format=csv;;
+collect)
+  CHAINS="$(untagged)" bash $R8 collect
+  mkdir -p $B/tagged; for c in $CHAINS; do IFS=: read gpu sc s tag <<< "$c"; [ -n "$tag" ] || continue
+    name=${sc}_${s}_$tag; cp $B/runner_$name.log $B/start_$name $B/tagged/
+    cp $B/o_$name/results.json $B/tagged/${name}.results.json
+    cp $B/o_$name/work/$sc/seed$s/stage_times.json $B/tagged/${name}.stage_times.json; done
+  (cd $B && tar czf $OUT/tagged.tgz tagged); ls -la $OUT;;
+*) bash $R8 "$@";;
+esac
