@@ -6,7 +6,7 @@ import numpy as np
 
 from engine.formats.cameras import Camera, pixel_grid
 from engine.io.masks import dilate
-from engine.io.visibility import ViewStack, farthest_nearby, unseen_mask
+from engine.io.visibility import farthest_nearby, unseen_mask
 
 F, W, H = 100.0, 120, 80
 WALL, SQUARE, HALF = 4.0, 2.0, 0.25  # a wall at z = 4, a square object of half-width 0.25 at z = 2
@@ -38,7 +38,7 @@ def test_hole_is_the_part_of_the_shadow_that_no_view_sees():
     depth_a, region = depth_seen_from(a, with_object=True)
     depth_b, _ = depth_seen_from(b, with_object=True)
     removed_a, _ = depth_seen_from(a, with_object=False)
-    hole = unseen_mask(a, region, removed_a, ViewStack([a, b], {"depth": [depth_a, depth_b]}), rel_tol=0.01)
+    hole = unseen_mask(a, region, removed_a, [a, b], [depth_a, depth_b], rel_tol=0.01)
     u, _ = pixel_grid(a)
     expected = region & ((u - a.cx) / F >= -0.125) & ((u - a.cx) / F <= 0.0)
     assert expected.sum() > 100 and region.sum() > 1.8 * expected.sum()
@@ -58,14 +58,10 @@ def test_a_render_blurred_at_the_silhouette_still_sees_just_past_its_edge():
     removed_a, _ = depth_seen_from(a, with_object=False)
     blurred_b = np.where(dilate(covered_b, 1) & ~covered_b, (SQUARE + WALL) / 2, depth_b)
     masks = [region, covered_b]
-
-    def unseen(depths: list[np.ndarray]) -> np.ndarray:
-        return unseen_mask(a, region, removed_a, ViewStack([a, b], {"depth": depths, "object": masks}), 0.01,
-                           occluder="object")
-
-    exact = unseen([depth_a, depth_b])
-    blurred = unseen([depth_a, blurred_b])
-    undone = unseen([farthest_nearby(depth_a), farthest_nearby(blurred_b)])
+    exact = unseen_mask(a, region, removed_a, [a, b], [depth_a, depth_b], 0.01, masks)
+    blurred = unseen_mask(a, region, removed_a, [a, b], [depth_a, blurred_b], 0.01, masks)
+    undone = unseen_mask(a, region, removed_a, [a, b], [farthest_nearby(depth_a), farthest_nearby(blurred_b)],
+                         0.01, masks)
     rows = np.unique(np.nonzero(region)[0]).size
     assert (blurred & ~exact).sum() >= rows  # a column of wall that b did see, lost to the blur
     assert (undone == exact).all()
@@ -93,9 +89,9 @@ def test_a_view_alone_never_sees_behind_its_own_object_and_a_view_with_no_object
     a, b = camera_at(0.0), camera_at(0.5)
     depth_a, region = depth_seen_from(a, with_object=True)
     removed_a, _ = depth_seen_from(a, with_object=False)
-    assert (unseen_mask(a, region, removed_a, ViewStack([a], {"depth": [depth_a]})) == region).all()
+    assert (unseen_mask(a, region, removed_a, [a], [depth_a]) == region).all()
     clear_b, _ = depth_seen_from(b, with_object=False)
-    assert not unseen_mask(a, region, removed_a, ViewStack([a, b], {"depth": [depth_a, clear_b]})).any()
+    assert not unseen_mask(a, region, removed_a, [a, b], [depth_a, clear_b]).any()
 
 
 def test_an_object_touching_its_support_hides_it_even_where_depths_agree():
@@ -105,9 +101,8 @@ def test_an_object_touching_its_support_hides_it_even_where_depths_agree():
     wall_a, _ = depth_seen_from(a, with_object=False)
     wall_b, covered_b = depth_seen_from(b, with_object=True)
     wall_b[:] = WALL  # the object flat against the wall: b's depth is the wall's everywhere
-    assert not unseen_mask(a, region, wall_a, ViewStack([b], {"depth": [wall_b]})).any()  # depth says b sees it all
-    with_masks = unseen_mask(a, region, wall_a, ViewStack([b], {"depth": [wall_b], "object": [covered_b]}),
-                             occluder="object")
+    assert not unseen_mask(a, region, wall_a, [b], [wall_b]).any()  # depth says b sees it all
+    with_masks = unseen_mask(a, region, wall_a, [b], [wall_b], occluders=[covered_b])
     assert with_masks.sum() > 0.3 * region.sum()  # b's mask says it saw the object there
 
 
@@ -188,7 +183,7 @@ def test_see_through_marks_only_rays_that_meet_the_plane_under_the_object():
     cameras = [camera_at(x) for x in (-0.1, 0.0, 0.1)]
     regions = [depth_seen_from(c, True)[1] for c in cameras]
     stopped, depth = regions[1], np.full((H, W), WALL)
-    under = _under_object(cameras[1], stopped, depth, ViewStack(cameras, {"hull": regions}))
+    under = _under_object(cameras[1], stopped, depth, cameras, regions)
     u, _ = pixel_grid(cameras[1])
     wall_x = np.abs((u - cameras[1].cx) / F * WALL)
     assert under[stopped & (wall_x < 0.37)].all() and not under[stopped & (wall_x > 0.43)].any()

@@ -17,7 +17,7 @@ from engine.edit.removal import RemovalConfig, run_removal
 from engine.formats.cameras import Camera
 from engine.io.image_io import read_png
 from engine.io.ply_io import load_ply
-from engine.io.visibility import ViewStack, inside_visual_hull
+from engine.io.visibility import inside_visual_hull
 from engine.train.trained_run import load_run
 
 
@@ -57,9 +57,8 @@ def test_the_visual_hull_takes_what_nine_in_ten_framing_views_put_inside_the_obj
     share = RemovalConfig().hull_share
     for outside, expected in ((0, True), (1, True), (2, False)):
         masks = [np.full((20, 20), k >= outside) for k in range(10)]
-        assert inside_visual_hull(point, ViewStack(cameras, {"mask": masks}), share=share)[0] == expected
-    one_out = ViewStack(cameras, {"mask": [np.full((20, 20), k >= 1) for k in range(10)]})
-    assert not inside_visual_hull(point, one_out, share=1.0)[0]
+        assert inside_visual_hull(point, cameras, masks, share=share)[0] == expected
+    assert not inside_visual_hull(point, cameras, [np.full((20, 20), k >= 1) for k in range(10)], share=1.0)[0]
 
 
 def test_holes_follow_the_scenes_true_holes(tiny_run: Path, removed, tmp_path: Path):

@@ -9,7 +9,7 @@ import pytest
 import torch
 
 from engine.formats.cameras import Camera, pixel_grid, project
-from engine.io.visibility import ViewStack, exact_tolerance, unseen_view_pixels
+from engine.io.visibility import exact_tolerance, unseen_view_pixels
 
 
 def yawed(degrees: float, name: str = "v.png") -> Camera:
@@ -35,8 +35,7 @@ def floor_depth(camera: Camera) -> np.ndarray:
 
 def test_what_lies_past_the_training_views_frame_is_unseen_floor_and_sky_alike():
     train, test = yawed(0.0, "a.png"), yawed(40.0)
-    unseen = unseen_view_pixels(test, floor_depth(test), ViewStack([train], {"depth": [floor_depth(train)]}),
-                                exact_tolerance([test]))
+    unseen = unseen_view_pixels(test, floor_depth(test), [train], [floor_depth(train)], exact_tolerance([test]))
     u, v, z = project(train, directions(test))
     outside = ~((z > 0) & (u >= 0) & (u < train.width) & (v >= 0) & (v < train.height))
     assert 0.2 < outside.mean() < 0.8  # the turn puts part of the test view out of the training view's frame
@@ -46,8 +45,7 @@ def test_what_lies_past_the_training_views_frame_is_unseen_floor_and_sky_alike()
     clear = sky | (floor_depth(test) < 2.0)
     assert (unseen != outside)[clear].mean() < 0.01  # both the floor's and the sky's part, to a pixel's rounding
     assert (unseen & sky).any() and (unseen & ~sky).any()
-    same = unseen_view_pixels(train, floor_depth(train), ViewStack([train], {"depth": [floor_depth(train)]}),
-                              exact_tolerance([train]))
+    same = unseen_view_pixels(train, floor_depth(train), [train], [floor_depth(train)], exact_tolerance([train]))
     assert not same.any()
 
 
@@ -55,8 +53,7 @@ def test_sky_that_a_training_view_saw_as_a_wall_is_unseen():
     """The training view had those directions in frame but showed something there, so it never saw that sky."""
     camera = yawed(0.0)
     wall = np.full((48, 64), 5.0)
-    unseen = unseen_view_pixels(camera, floor_depth(camera), ViewStack([camera], {"depth": [wall]}),
-                                exact_tolerance([camera]))
+    unseen = unseen_view_pixels(camera, floor_depth(camera), [camera], [wall], exact_tolerance([camera]))
     sky = ~np.isfinite(floor_depth(camera))
     assert unseen[sky].all()
 

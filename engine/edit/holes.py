@@ -46,7 +46,6 @@ from pathlib import Path
 
 import numpy as np
 
-from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
@@ -63,7 +62,7 @@ from engine.formats.cameras import Camera, backproject, mean_up, pixel_grid, pro
 from engine.formats.layout import HolesLayout, RemovedLayout, RunLayout
 from engine.io.image_io import exr_name, read_depth, read_png, write_png
 from engine.io.masks import dilate
-from engine.io.visibility import DEFAULT_REL_TOL, ViewStack, farthest_nearby, inside_visual_hull, unseen_mask
+from engine.io.visibility import DEFAULT_REL_TOL, farthest_nearby, inside_visual_hull, unseen_mask
 from engine.pictures.preview import label, overlay
 from engine.train.trained_run import load_run_scene
 
@@ -96,22 +95,19 @@ class HoleConfig:
     # views saw it: under the livingroom plush's overhang). CPU livingroom 160x120: Init-exemplar m-PSNR
     # 20.84 -> 23.15 dB, marking 31 px a view; docs/BENCHMARKS.md.
     off_support_tol: float = 0.02
-    # where the visibility tests run (engine.io.visibility.ViewStack): every object pixel of every view against
-    # every training view, 17-34 s of numpy at 640x480/100 views (docs/BENCHMARKS.md); auto: the GPU if any
-    device: str = "auto"
 
 
-def _under_object(camera: Camera, stopped: np.ndarray, depth: np.ndarray, views: ViewStack) -> np.ndarray:
+def _under_object(camera: Camera, stopped: np.ndarray, depth: np.ndarray, cameras: list[Camera],
+                  masks: list[np.ndarray]) -> np.ndarray:
     """The `stopped` pixels whose point on the plane (at `depth`) lies under the object: inside its visual
-    hull (its region, the `views`' "hull" maps, in HULL_SHARE of the training views that frame it). A ray
-    through the object's region that passes beside the support's edge meets the plane far beyond the object,
-    where nothing is missing:
+    hull (its region in HULL_SHARE of the training views that frame it). A ray through the object's region
+    that passes beside the support's edge meets the plane far beyond the object, where nothing is missing:
     on the CPU statue such rays marked the ground behind the slab (written masks' IoU 0.41 for 0.82 unseen)."""
     ys, xs = np.nonzero(stopped)
     u, v = pixel_grid(camera)
     points = backproject(camera, u[ys, xs], v[ys, xs], depth[ys, xs])
     out = np.zeros_like(stopped)
-    out[ys, xs] = inside_visual_hull(points, views, "hull", share=HULL_SHARE)
+    out[ys, xs] = inside_visual_hull(points, cameras, masks, share=HULL_SHARE)
     return out
 
 
@@ -158,8 +154,6 @@ def run_holes(config: HoleConfig) -> dict:
                                                                          scene.cameras[i].height)))
                  for i in scene.train]
     hull_masks = [dilate(regions[i], HULL_DILATE_PX) for i in scene.train]
-    views_seen = ViewStack(train_cameras, {"depth": seen_surfaces, "occluder": occluders, "hull": hull_masks},
-                           pick_device(config.device))
     views, sheet = [], []
     with atomic_output_dir(out) as tmp_root:
         tmp = HolesLayout(tmp_root)
@@ -169,10 +163,10 @@ def run_holes(config: HoleConfig) -> dict:
             rendered = train_depth[i] if i in train_depth else read_depth(removed.depth / exr_name(camera.name))
             background = rendered if plane is None else stop_at_plane(camera, region, rendered, plane, config.rel_tol)
             # where the removed scene renders no surface at all, nothing is there to show: hole
-            unseen = unseen_mask(camera, region, background, views_seen, config.rel_tol, near, "occluder") | (
-                region & ~np.isfinite(background))
-            # rays the plane stopped where the object stood
-            see_through = _under_object(camera, region & (background < rendered), background, views_seen)
+            unseen = unseen_mask(camera, region, background, train_cameras, seen_surfaces, config.rel_tol,
+                                 occluders, near) | (region & ~np.isfinite(background))
+            see_through = _under_object(camera, region & (background < rendered), background, train_cameras,
+                                        hull_masks)  # rays the plane stopped where the object stood
             if plane is not None and footprint is not None:  # the support under the footprint rendered off its plane
                 see_through |= off_support(camera, region, rendered, plane, footprint, config.off_support_tol)
             unseen_hole = dilate(unseen, config.dilate)

@@ -58,7 +58,7 @@ from engine.io.gaussians import Gaussians
 from engine.io.image_io import exr_name, write_depth, write_png
 from engine.io.masks import dilate
 from engine.io.ply_io import save_ply
-from engine.io.visibility import ViewStack, inside_visual_hull
+from engine.io.visibility import inside_visual_hull
 from engine.metrics.image_metrics import psnr
 from engine.pictures.preview import label, overlay
 from engine.render.render_views import render_pictures
@@ -91,7 +91,7 @@ def object_probability(identity: torch.Tensor, classifier: torch.nn.Linear, obje
         return torch.softmax(classifier(identity.float()), dim=-1)[:, object_id]
 
 
-def select(run: TrainedRun, config: RemovalConfig, device: torch.device | str = "cpu") -> tuple[np.ndarray, dict]:
+def select(run: TrainedRun, config: RemovalConfig) -> tuple[np.ndarray, dict]:
     """(N,) bool Gaussians to remove, and how many each rule picked."""
     means = run.gaussians["means"].numpy()
     if config.box:
@@ -103,8 +103,7 @@ def select(run: TrainedRun, config: RemovalConfig, device: torch.device | str = 
     if config.hull and run.scene.masks is not None:
         views = run.scene.train
         masks = [dilate(run.scene.masks[i] == obj.id, config.hull_dilate) for i in views]
-        hull = inside_visual_hull(means, ViewStack([run.scene.cameras[i] for i in views], {"mask": masks}, device),
-                                  share=config.hull_share)
+        hull = inside_visual_hull(means, [run.scene.cameras[i] for i in views], masks, share=config.hull_share)
         counts["hull_only"] = int((hull & ~chosen).sum())
         chosen |= hull
     return chosen, counts
@@ -136,7 +135,7 @@ def run_removal(config: RemovalConfig) -> dict:
     out = Path(config.out) if config.out else run.layout.removed.root
     check_new_output(out)
     device = pick_device(config.device)
-    removed, counts = select(run, config, device)
+    removed, counts = select(run, config)
     remaining, gone = keep(run.gaussians, removed), keep(run.gaussians, ~removed)
     scene = run.scene
     obj = scene.object_by(config.object) if config.object else None

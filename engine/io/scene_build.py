@@ -17,7 +17,6 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
@@ -26,7 +25,7 @@ from engine.formats.layout import RendersLayout, SceneLayout
 from engine.io.colmap_model import ColmapModel, write_model
 from engine.io.image_io import linear_to_srgb8, read_exr_channels, write_depth, write_png
 from engine.io.masks import dilate
-from engine.io.visibility import ViewStack, exact_tolerance, unseen_mask, unseen_view_pixels
+from engine.io.visibility import exact_tolerance, seen_by_any, unseen_mask, unseen_view_pixels
 
 BACKGROUND_DEPTH = 1e9  # Cycles writes 1e10 where a ray hits nothing; stored as inf
 EFFECT_DIFF = 12  # of 255: a change this large is the object's doing, not Cycles' noise between two renders
@@ -86,18 +85,17 @@ def build_scene(renders: Path, out: Path, config: BuildConfig = BuildConfig()) -
         gt_names = sorted(p.stem for p in source.without_object.glob("*.exr"))
         gt_index = [i for i, c in enumerate(cameras) if Path(c.name).stem in gt_names]
         gt_views = _write_views(source.without_object, [cameras[i] for i in gt_index], tmp.gt, tmp.gt_depth)
-        seen_by = ViewStack([cameras[j] for j in train], {"depth": [views[j].depth for j in train]},
-                            pick_device("auto"))
         progress = Progress("holes", len(gt_index))
         for k, (i, gt) in enumerate(zip(gt_index, gt_views, strict=True)):
-            hole = unseen_mask(cameras[i], views[i].ids == target_id, gt.depth, seen_by, config.rel_tol)
+            hole = unseen_mask(cameras[i], views[i].ids == target_id, gt.depth,
+                               [cameras[j] for j in train], [views[j].depth for j in train], config.rel_tol)
             write_png(tmp.holes / cameras[i].name, (hole * 255).astype(np.uint8))
             effect = effect_region(views[i].rgb, gt.rgb, views[i].ids == target_id)
             write_png(tmp.effects / cameras[i].name, (effect * 255).astype(np.uint8))
             progress.update(k + 1)
         progress.close()
-        write_unseen_views(cameras, [v.depth for v in views], seen_by, split["test"], tmp.unseen, config.rel_tol)
-        model = sample_points(cameras, views, train, seen_by, config)
+        write_unseen_views(cameras, [v.depth for v in views], train, split["test"], tmp.unseen, config.rel_tol)
+        model = sample_points(cameras, views, train, config)
         write_model(tmp.sparse / "0", model)
         tmp.objects_json.write_text(json.dumps(objects, indent=1))
         tmp.split_json.write_text(json.dumps(split, indent=1))
@@ -106,14 +104,13 @@ def build_scene(renders: Path, out: Path, config: BuildConfig = BuildConfig()) -
     return out
 
 
-def write_unseen_views(cameras: list[Camera], depths: list[np.ndarray], seen_by: ViewStack, test: list[str],
+def write_unseen_views(cameras: list[Camera], depths: list[np.ndarray], train: list[int], test: list[str],
                        out: Path, rel_tol: float) -> None:
-    """unseen/: per test view, the pixels none of the training views (`seen_by`, with their depth) saw
-    (engine.io.visibility.unseen_view_pixels)."""
-    names = set(test)
+    """unseen/: per test view, the pixels no training view saw (engine.io.visibility.unseen_view_pixels)."""
+    seen_by, names = ([cameras[j] for j in train], [depths[j] for j in train]), set(test)
     for i, camera in enumerate(cameras):
         if camera.name in names:
-            unseen = unseen_view_pixels(camera, depths[i], seen_by, rel_tol)
+            unseen = unseen_view_pixels(camera, depths[i], *seen_by, rel_tol)
             write_png(out / camera.name, (unseen * 255).astype(np.uint8))
 
 
@@ -145,10 +142,9 @@ def _write_views(folder: Path, cameras: list[Camera], image_dir: Path, depth_dir
     return passes
 
 
-def sample_points(cameras: list[Camera], views: list[RenderPass], train: list[int], seen_by: ViewStack,
+def sample_points(cameras: list[Camera], views: list[RenderPass], train: list[int],
                   config: BuildConfig) -> ColmapModel:
-    """Sparse points on surfaces the training views see, coloured from the images, with short tracks (the
-    training views `seen_by`, with their depth, tell which see each point)."""
+    """Sparse points on surfaces the training views see, coloured from the images, with short tracks."""
     rng = np.random.default_rng(config.seed)
     per_view = max(1, config.max_points // len(train))
     points, colors, sources = [], [], []
@@ -161,10 +157,10 @@ def sample_points(cameras: list[Camera], views: list[RenderPass], train: list[in
         sources.append(np.full(pick.size, i))
     xyz, rgb, source = np.concatenate(points), np.concatenate(colors), np.concatenate(sources)
     observations: list[list[tuple[int, float, float]]] = [[] for _ in range(len(xyz))]
-    seen = seen_by.visible(xyz, config.rel_tol)
-    for k, i in enumerate(train):
+    for i in train:
         u, v, z = project(cameras[i], xyz)
-        for p in np.flatnonzero(seen[k] | (source == i)):
+        seen = seen_by_any(xyz, [cameras[i]], [views[i].depth], config.rel_tol)
+        for p in np.flatnonzero(seen | (source == i)):
             if len(observations[p]) < config.max_track or source[p] == i:
                 observations[p].append((i, float(u[p]), float(v[p])))
     return ColmapModel(cameras=cameras, points=xyz, colors=rgb, observations=observations)

@@ -8,11 +8,9 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
-import torch
 
-from engine.formats.cameras import Camera, backproject, pixel_grid
+from engine.formats.cameras import Camera, backproject, pixel_grid, project, sample_nearest
 
-CPU_GROUP = 8  # views tested together on the CPU (ViewStack.groups)
 DEFAULT_REL_TOL = 0.01  # 1% of depth: for rendered (trained) depth, blurred past Cycles' jitter; exact_tolerance's cap
 
 
@@ -44,97 +42,12 @@ def farthest_nearby(depth: np.ndarray, pixels: int = 1, exclude: np.ndarray | No
     return np.where(exclude, depth, farthest).astype(np.float32)
 
 
-class ViewStack:
-    """Cameras, each with maps of one size (z-depth, masks), stacked as tensors on one device.
+def seen_by_any(points: np.ndarray, cameras: list[Camera], depths: list[np.ndarray],
+                rel_tol: float = DEFAULT_REL_TOL, occluders: list[np.ndarray] | None = None,
+                near: float | None = None) -> np.ndarray:
+    """(N,) bool: whether any of `cameras` (with z-depth maps `depths`) sees each of `points` (N, 3).
 
-    Why: a stage tests many points against every view (holes: each of 100 views' object pixels against 90
-    training views; the generator's exact holes alike). One batched projection and one gather per map do what a
-    Python loop of numpy calls per view did, on the GPU where there is one, and the maps go to the device once
-    for every point the stage tests. Views of other sizes are padded to the largest; each keeps its own frame."""
-
-    def __init__(self, cameras: list[Camera], maps: dict[str, list[np.ndarray]], device: torch.device | str = "cpu"
-                 ) -> None:
-        first = next(iter(maps.values()))
-        shapes = [m.shape[:2] for m in first]
-        for name, layers in maps.items():
-            if len(layers) != len(cameras) or [m.shape[:2] for m in layers] != shapes:
-                raise ValueError(f"map {name!r}: one per camera, each the size of that camera's other maps")
-        self.device = torch.device(device)
-        f64 = {"dtype": torch.float64, "device": self.device}
-        self.rotations = torch.as_tensor(np.stack([c.R for c in cameras]), **f64)
-        self.translations = torch.as_tensor(np.stack([c.t for c in cameras]), **f64)
-        self.intrinsics = torch.as_tensor(np.array([[c.fx, c.fy, c.cx, c.cy] for c in cameras]), **f64)
-        self.sizes = torch.as_tensor(np.array([[w, h] for h, w in shapes]), device=self.device)
-        self.shape = (max(h for h, _ in shapes), max(w for _, w in shapes))
-        self.maps = {name: self._stack(layers) for name, layers in maps.items()}
-
-    def __len__(self) -> int:
-        return len(self.rotations)
-
-    def _stack(self, layers: list[np.ndarray]) -> torch.Tensor:
-        stacked = np.zeros((len(layers), *self.shape), layers[0].dtype)
-        for k, layer in enumerate(layers):
-            stacked[k, :layer.shape[0], :layer.shape[1]] = layer
-        return torch.from_numpy(stacked).to(self.device).reshape(-1)
-
-    def groups(self) -> list[slice]:
-        """The views in groups tested together: all at once on a GPU (a few kernels each); on the CPU a few
-        at a time, so that the points one group sees are not tested against the next (numpy's loop over views
-        did that one view at a time, and testing every point against every view was 4.5x slower than it)."""
-        size = len(self) if self.device.type == "cuda" else CPU_GROUP
-        return [slice(k, k + size) for k in range(0, len(self), size)]
-
-    def chunks(self, points: np.ndarray) -> list[torch.Tensor]:
-        """`points` (N, 3) on the device in pieces small enough that one group's projection of a piece stays
-        small: on the CPU, in cache (whole-array temporaries of every view at once were 2.5x slower)."""
-        budget = 1 << 22 if self.device.type == "cuda" else 1 << 16
-        size = max(1, budget // (self.groups()[0].stop - self.groups()[0].start))
-        tensor = torch.as_tensor(np.asarray(points, dtype=np.float64).reshape(-1, 3), device=self.device)
-        return list(torch.split(tensor, size)) if len(tensor) else [tensor]
-
-    def locate(self, points: torch.Tensor, views: slice = slice(None), directions: bool = False
-               ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
-        """Each of the `views`' pixel of each of `points` (N, 3): (V, N) index into the stacked maps, whether it
-        lies inside that view's frame, and its camera z. `directions`: the points are directions, each placed
-        along it from every camera's own centre (sky). As engine.formats.cameras.project and sample_nearest."""
-        cam = torch.matmul(points[None], self.rotations[views].transpose(1, 2))
-        if not directions:
-            cam = cam + self.translations[views, None]
-        z = cam[..., 2]
-        fx, fy, cx, cy = (self.intrinsics[views, k, None] for k in range(4))
-        col, row = _pixel_index(fx * cam[..., 0] / z + cx), _pixel_index(fy * cam[..., 1] / z + cy)
-        sizes = self.sizes[views]
-        inside = (col >= 0) & (col < sizes[:, :1]) & (row >= 0) & (row < sizes[:, 1:])
-        height, width = self.shape
-        ids = torch.arange(len(self), device=self.device)[views, None]
-        index = (ids * height + torch.where(inside, row, 0)) * width + torch.where(inside, col, 0)
-        return index, inside, z
-
-    def visible(self, points: np.ndarray, rel_tol: float = DEFAULT_REL_TOL, near: float | None = None,
-                occluder: str | None = None) -> np.ndarray:
-        """(C, N) bool: whether each view sees each of `points` (N, 3) by its "depth" map, as seen_by_any."""
-        return torch.cat([torch.cat([self._visible(chunk, views, rel_tol, near, occluder) for views in self.groups()])
-                          for chunk in self.chunks(points)], 1).cpu().numpy()
-
-    def _visible(self, points: torch.Tensor, views: slice, rel_tol: float, near: float | None,
-                 occluder: str | None) -> torch.Tensor:
-        index, inside, z = self.locate(points, views)
-        surface = self.maps["depth"][index]
-        tol = rel_tol if near is None else rel_tol * torch.clamp(surface / near, min=1.0)
-        visible = inside & (z > 0) & (z <= surface * (1 + tol))
-        return visible & ~self.maps[occluder][index] if occluder is not None else visible
-
-
-def _pixel_index(x: torch.Tensor) -> torch.Tensor:
-    """floor(x) as int64; non-finite or huge values become -1 (engine.formats.cameras._pixel_index)."""
-    return torch.floor(torch.nan_to_num(x, nan=-1.0, posinf=-1.0, neginf=-1.0).clamp(-1.0, 1e9)).long()
-
-
-def seen_by_any(points: np.ndarray, views: ViewStack, rel_tol: float = DEFAULT_REL_TOL, near: float | None = None,
-                occluder: str | None = None) -> np.ndarray:
-    """(N,) bool: whether any of the `views` (their "depth" maps: z-depth) sees each of `points` (N, 3).
-
-    `occluder` (optional): the name of a bool map per view of pixels showing an occluding object, which see
+    `occluders` (one bool mask per camera, optional): pixels showing an occluding object, which see
     nothing behind it whatever the depths say. Rendered depth is blurred at silhouettes, and where an
     object touches its support the two depths differ by less than any tolerance; the masks decide there.
 
@@ -143,37 +56,40 @@ def seen_by_any(points: np.ndarray, views: ViewStack, rel_tol: float = DEFAULT_R
     depth squared (a backdrop five times farther than the object is known to 5 rel_tol; at 1% it came out
     'unseen' behind a livingroom's plush).
     """
-    out = []
-    for chunk in views.chunks(points):
-        seen = torch.zeros(len(chunk), dtype=torch.bool, device=views.device)
-        for group in views.groups():
-            todo = torch.nonzero(~seen)[:, 0]
-            if len(todo) == 0:
-                break
-            seen[todo] = views._visible(chunk[todo], group, rel_tol, near, occluder).any(0)
-        out.append(seen)
-    return torch.cat(out).cpu().numpy()
+    seen = np.zeros(len(points), dtype=bool)
+    for k, (camera, depth) in enumerate(zip(cameras, depths, strict=True)):
+        todo = ~seen
+        if not todo.any():
+            break
+        u, v, z = project(camera, points[todo])
+        surface, inside = sample_nearest(depth, u, v)
+        tol = rel_tol if near is None else rel_tol * np.maximum(1.0, surface / near)
+        visible = inside & (z > 0) & (z <= surface * (1 + tol))
+        if occluders is not None:
+            visible &= ~sample_nearest(occluders[k], u, v)[0]
+        seen[np.flatnonzero(todo)[visible]] = True
+    return seen
 
 
-def inside_visual_hull(means: np.ndarray, views: ViewStack, mask: str = "mask", min_views: int = 3,
+def inside_visual_hull(means: np.ndarray, cameras: list[Camera], masks: list[np.ndarray], min_views: int = 3,
                        share: float = 1.0) -> np.ndarray:
-    """(N,) bool: in frame in at least `min_views` of the `views` and inside their `mask` map (bool) in
-    `share` of the views that frame it (all of them by default)."""
-    out = []
-    for chunk in views.chunks(means):
-        count = hits = 0
-        for group in views.groups():
-            index, inside, z = views.locate(chunk, group)
-            framed = inside & (z > 0)
-            count, hits = count + framed.sum(0), hits + (framed & views.maps[mask][index]).sum(0)
-        out.append((count >= min_views) & (hits >= share * count))
-    return torch.cat(out).cpu().numpy()
+    """(N,) bool: in frame in at least `min_views` views and inside the mask in `share` of the views that
+    frame it (all of them by default)."""
+    framed = np.zeros(len(means), dtype=np.int32)
+    inside = np.zeros(len(means), dtype=np.int32)
+    for camera, mask in zip(cameras, masks, strict=True):
+        u, v, z = project(camera, means)
+        hit, in_frame = sample_nearest(mask, u, v)
+        in_frame &= z > 0
+        framed += in_frame
+        inside += in_frame & hit
+    return (framed >= min_views) & (inside >= share * framed)
 
 
-def unseen_mask(camera: Camera, region: np.ndarray, background_depth: np.ndarray, views: ViewStack,
-                rel_tol: float = DEFAULT_REL_TOL, near: float | None = None, occluder: str | None = None
-                ) -> np.ndarray:
-    """(H, W) bool: pixels of `region` whose background surface none of the `views` sees (seen_by_any).
+def unseen_mask(camera: Camera, region: np.ndarray, background_depth: np.ndarray, cameras: list[Camera],
+                depths: list[np.ndarray], rel_tol: float = DEFAULT_REL_TOL,
+                occluders: list[np.ndarray] | None = None, near: float | None = None) -> np.ndarray:
+    """(H, W) bool: pixels of `region` whose background surface no view in `cameras` sees.
 
     The background surface of pixel p is the point at `background_depth[p]` along p's ray. Pixels
     with no finite background (open sky) count as seen: nothing is missing there.
@@ -182,17 +98,16 @@ def unseen_mask(camera: Camera, region: np.ndarray, background_depth: np.ndarray
     candidates = region & np.isfinite(background_depth) & (background_depth > 0)
     points = backproject(camera, u[candidates], v[candidates], background_depth[candidates])
     hole = np.zeros_like(region, dtype=bool)
-    hole[candidates] = ~seen_by_any(points, views, rel_tol, near, occluder)
+    hole[candidates] = ~seen_by_any(points, cameras, depths, rel_tol, occluders, near)
     return hole
 
 
 SKY_DISTANCE = 1e4  # a sky pixel's point along its ray: far enough that only its direction counts
 
 
-def unseen_view_pixels(camera: Camera, depth: np.ndarray, views: ViewStack, rel_tol: float = DEFAULT_REL_TOL
-                       ) -> np.ndarray:
-    """(H, W) bool: the pixels of a view (z-depth `depth`) that none of the `views` (their "depth") saw, the
-    object included.
+def unseen_view_pixels(camera: Camera, depth: np.ndarray, cameras: list[Camera], depths: list[np.ndarray],
+                       rel_tol: float = DEFAULT_REL_TOL) -> np.ndarray:
+    """(H, W) bool: the pixels of a view (z-depth `depth`) that none of `cameras` saw, the object included.
 
     Why: a test view may show what no training view had in frame (sky past their edges, a surface they never
     faced), which no training can know; the statue's worst test view held 65% of its error in 0.5% of such
@@ -202,11 +117,12 @@ def unseen_view_pixels(camera: Camera, depth: np.ndarray, views: ViewStack, rel_
     sky = ~np.isfinite(depth)
     unseen = np.zeros(depth.shape, bool)
     surface = backproject(camera, u[~sky], v[~sky], depth[~sky])
-    unseen[~sky] = ~seen_by_any(surface, views, rel_tol)
+    unseen[~sky] = ~seen_by_any(surface, cameras, depths, rel_tol)
     ahead = backproject(camera, u[sky], v[sky], np.full(int(sky.sum()), SKY_DISTANCE)) - camera.center
-    sky_seen = []
-    for chunk in views.chunks(ahead):
-        index, inside, z = views.locate(chunk, directions=True)
-        sky_seen.append((inside & (z > 0) & ~torch.isfinite(views.maps["depth"][index])).any(0))
-    unseen[sky] = ~torch.cat(sky_seen).cpu().numpy()
+    sky_seen = np.zeros(len(ahead), bool)
+    for other, other_depth in zip(cameras, depths, strict=True):
+        pu, pv, z = project(other, other.center + ahead)
+        shown, inside = sample_nearest(other_depth, pu, pv)
+        sky_seen |= inside & (z > 0) & ~np.isfinite(shown)
+    unseen[sky] = ~sky_seen
     return unseen

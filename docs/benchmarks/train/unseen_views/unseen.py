@@ -19,23 +19,24 @@ import numpy as np
 from engine.formats.layout import SceneLayout
 from engine.io.scene import load_scene
 from engine.io.scene_build import write_unseen_views
-from engine.io.visibility import ViewStack, exact_tolerance, unseen_view_pixels
+from engine.io.visibility import exact_tolerance, unseen_view_pixels
 
 
 def main(scene_dir: Path, renders: Path | None, write: bool) -> None:
     scene = load_scene(scene_dir, depth=True)
-    seen_by = ViewStack([scene.cameras[i] for i in scene.train], {"depth": [scene.depths[i] for i in scene.train]})
+    train = [scene.cameras[i] for i in scene.train]
+    depths = [scene.depths[i] for i in scene.train]
     tol = exact_tolerance(scene.cameras)
     if write:
         out = SceneLayout(scene_dir).unseen
         if out.exists():
             raise SystemExit(f"{out} exists already")
         out.mkdir()
-        write_unseen_views(scene.cameras, scene.depths, seen_by, [scene.names[i] for i in scene.test], out, tol)
+        write_unseen_views(scene.cameras, scene.depths, scene.train, [scene.names[i] for i in scene.test], out, tol)
     rows = []
     for i in scene.test:
         camera = scene.cameras[i]
-        unseen = unseen_view_pixels(camera, scene.depths[i], seen_by, tol)
+        unseen = unseen_view_pixels(camera, scene.depths[i], train, depths, tol)
         row = {"view": camera.name, "unseen_share": float(unseen.mean())}
         if renders is not None:
             render = cv2.imread(str(renders / camera.name))[..., ::-1].astype(np.float64)
