@@ -2,13 +2,14 @@
 # one livingroom_s0 training (10k steps: the masks' cost depends on the views, not on the steps), its removal, then
 # `holes` three times on that run: the code before (69b43bb's engine, carried as .bench/oldengine: numpy, one view
 # at a time), today's on the GPU (the default, auto) and today's on the CPU. The masks are compared pixel by pixel.
-# carry: .whl .bench/full_1 .bench/oldengine.   Writes $OUT/view_stack.txt.
+# carry: .whl .bench/full_1 .bench/oldengine.   Writes $OUT/view_stack.txt (records/: run once, session 23; ViewStack
+# was then reverted in 9dbca4f, so on today's code the three runs are all the numpy loop).
 export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1
 bash docs/benchmarks/full/run4/device.sh recv > /dev/null 2>&1
 for k in $(seq 60); do grep -q built /tmp/b/gsplat.log && break; sleep 5; done
 S=/tmp/b/scenes/livingroom_s0; R=/tmp/h/run; T=$OUT/view_stack.txt; mkdir -p /tmp/h
-target=$(python3 -c "import json,sys; print(next(o['name'] for o in json.load(open(sys.argv[1])) if o.get('target')))" $S/objects.json)
-python3 -m engine train --scene $S --out $R --steps 10000 --device cuda > /tmp/h/train.log 2>&1 || { tail -5 /tmp/h/train.log; exit 1; }
+target=$(python3 -c "import json,sys; print(next(o['name'] for o in json.load(open(sys.argv[1])) if o.get('target')))" $S/masks/objects.json)
+[ -f $R/point_cloud.ply ] || python3 -m engine train --scene $S --out $R --steps 10000 --device cuda > /tmp/h/train.log 2>&1 || { tail -5 /tmp/h/train.log; exit 1; }
 python3 -m engine remove --run $R --object "$target" --device cuda > /tmp/h/remove.log 2>&1 || { tail -5 /tmp/h/remove.log; exit 1; }
 nvidia-smi -L > $T; nproc >> $T
 stage() { local name=$1; shift; local t0=$(date +%s.%N)
