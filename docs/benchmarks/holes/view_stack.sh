@@ -3,7 +3,7 @@
 # `holes` three times on that run: the code before (69b43bb's engine, carried as .bench/oldengine: numpy, one view
 # at a time), today's on the GPU (the default, auto) and today's on the CPU. The masks are compared pixel by pixel.
 # carry: .whl .bench/full_1 .bench/oldengine.   Writes $OUT/view_stack.txt (records/: run once, session 23; ViewStack
-# was then reverted in 9dbca4f, so on today's code the three runs are all the numpy loop).
+# was then reverted in fe901a9, so on today's code the three runs are all the numpy loop).
 export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1
 bash docs/benchmarks/full/run4/device.sh recv > /dev/null 2>&1
 for k in $(seq 60); do grep -q built /tmp/b/gsplat.log && break; sleep 5; done
@@ -21,7 +21,6 @@ stage cpu python3 -m engine holes --run $R --out /tmp/h/holes_cpu --device cpu
 python3 - >> $T <<'PY'
 import json
 from pathlib import Path
-import numpy as np
 from engine.io.image_io import read_png
 h = Path("/tmp/h"); before = h / "holes_before"
 for other in ("holes_gpu", "holes_cpu"):

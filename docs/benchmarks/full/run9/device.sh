@@ -14,6 +14,8 @@
 # The prediction from run 8's livingroom (training 172 s, removal 24.5, holes 28.2, then ten cells in two
 # training slots a GPU): about 200 s of base stages on one GPU, then the cells over four slots instead of two,
 # so about 200 + 360 / 2 = 380 s against 559: 1.5x, short of issue 18's 1.8x (the base stages stay serial).
+# Measured (session 23, 4x H200): 452 s on two GPUs against 571 s on one beside it, 1.26x: Direct's exemplar
+# inpainting (203 s beside the trainings) follows the base stages on the critical path (docs/BENCHMARKS.md, "Run 9").
 B=/tmp/b; R8=docs/benchmarks/full/run8/device.sh
 export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3) SPLATFILL_WEIGHTS=/tmp/weights
 METHODS="init reference ft3 ftall direct"; INPAINTERS="telea exemplar"
