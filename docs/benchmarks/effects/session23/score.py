@@ -1,0 +1,68 @@
+"""Score removals of one scene against its exact data: PSNR outside the true hole (removal.json), and over the exact
+effect region of the test views (outside the holes) the removed/gt ratio of its interior, its edge band, the ring
+just past it, and its brighter and darker halves by gt/'s luminance, with the texture's contrast against gt/'s;
+a picture of the first test view with an effect: each removal, then gt/.
+
+    python docs/benchmarks/effects/session23/score.py SCENE REMOVED... [--picture OUT.png]
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+LUMA = np.array([0.2126, 0.7152, 0.0722])
+
+
+def load(path: Path) -> np.ndarray:
+    return cv2.imread(str(path))[..., ::-1].astype(np.float64) / 255.0
+
+
+def parts(effect: np.ndarray, hole: np.ndarray) -> dict[str, np.ndarray]:
+    kernel = np.ones((3, 3), np.uint8)
+    inner = cv2.erode(effect.astype(np.uint8), kernel, iterations=2) > 0
+    ring = (cv2.dilate(effect.astype(np.uint8), kernel, iterations=2) > 0) & ~effect
+    return {"interior": inner & ~hole, "edge": effect & ~inner & ~hole, "ring past it": ring & ~hole}
+
+
+def score(scene: Path, removed: Path, views: list[str]) -> None:
+    report = json.loads((removed / "removal.json").read_text())
+    print(f"{removed}: outside the true hole {report['psnr_outside_hole']:.3f} dB, revealed "
+          f"{report['psnr_revealed']:.3f} dB, shadow {report['effects']['shadow']}")
+    pooled: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {}
+    for name in views:
+        effect = cv2.imread(str(scene / "effects" / name), 0) > 0
+        hole = cv2.imread(str(scene / "holes" / name), 0) > 0
+        gt, out = load(scene / "gt" / name), load(removed / "images" / name)
+        for part, mask in parts(effect, hole).items():
+            pooled.setdefault(part, []).append((out[mask], gt[mask]))
+    for part, pairs in pooled.items():
+        out, gt = np.concatenate([p[0] for p in pairs]), np.concatenate([p[1] for p in pairs])
+        psnr = 10 * np.log10(1 / max(((out - gt) ** 2).mean(), 1e-12))
+        print(f"  {part:13s} {len(out):7d} px  removed/gt {(out.mean(0) / gt.mean(0)).round(3)}  {psnr:.2f} dB")
+        if part == "interior":
+            y = gt @ LUMA
+            for half, sel in (("brighter half", y > np.median(y)), ("darker half", y <= np.median(y))):
+                print(f"    {half:13s} removed/gt {(out[sel].mean(0) / gt[sel].mean(0)).round(3)}")
+            print(f"    texture contrast (std of luminance) against gt/: {(out @ LUMA).std() / y.std():.3f}")
+
+
+def main(args: list[str]) -> None:
+    picture = args[args.index("--picture") + 1] if "--picture" in args else None
+    args = [a for a in args if a != "--picture" and a != picture]
+    scene, removals = Path(args[0]), [Path(a) for a in args[1:]]
+    views = [n for n in json.loads((scene / "split.json").read_text())["test"]
+             if (scene / "effects" / n).is_file() and cv2.imread(str(scene / "effects" / n), 0).any()]
+    for removed in removals:
+        score(scene, removed, views)
+    if picture and views:
+        row = [cv2.imread(str(r / "images" / views[0])) for r in removals] + [cv2.imread(str(scene / "gt" / views[0]))]
+        cv2.imwrite(picture, cv2.hconcat(row))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
