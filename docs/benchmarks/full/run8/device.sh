@@ -29,12 +29,13 @@ recv)
 start)  # every chain whose scene has arrived and that has not started
   built; [ -d $B/code ] && [ -f $B/code/.copied ] || { rm -rf $B/code; cp -r . $B/code; touch $B/code/.copied; }
   cd $B/code || exit 1
-  for c in $CHAINS; do IFS=: read gpu sc s <<< "$c"; out=$B/o_${sc}_$s
-    [ -f $B/scenes/$sc/.ready ] && [ ! -f $B/start_${sc}_$s ] || continue
-    date +%s > $B/start_${sc}_$s
+  # GPUs:scene:seed[:tag] (run 9: a tag keeps a chain apart from an untagged one of the same scene and seed)
+  for c in $CHAINS; do IFS=: read gpu sc s tag <<< "$c"; name=${sc}_$s${tag:+_$tag}
+    [ -f $B/scenes/$sc/.ready ] && [ ! -f $B/start_$name ] || continue
+    date +%s > $B/start_$name
     CUDA_VISIBLE_DEVICES=$gpu setsid nohup python3 scripts/benchmark.py --scenes $B/scenes/$sc --methods $METHODS \
-      --inpainters $INPAINTERS --seeds $s --out $out --complete-steps 10000 --device cuda \
-      > $B/runner_${sc}_$s.log 2>&1 < /dev/null &
+      --inpainters $INPAINTERS --seeds $s --out $B/o_$name --complete-steps 10000 --device cuda \
+      > $B/runner_$name.log 2>&1 < /dev/null &
   done
   sleep 30; tail -n 2 $B/runner_*.log; nvidia-smi --query-gpu=index,utilization.gpu,memory.used --format=csv;;
 wait)

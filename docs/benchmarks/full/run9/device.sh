@@ -3,7 +3,7 @@
 # Ray instance that sees two GPUs; on the fourth GPU, livingroom seed 1 (issue 16's second seed at today's code).
 # Side by side, so the ratio is of one host and one load (run 8's 559 s came from another host). Chains are
 # GPUs:scene:seed[:tag]; a tag keeps a chain's folder, start time and log apart from an untagged one of the same
-# scene and seed. Everything else is run 8's script (R8 = bash docs/benchmarks/full/run8/device.sh):
+# scene and seed (run 8's start reads it). Everything else is run 8's script (R8 = bash docs/benchmarks/full/run8/device.sh):
 #   1 carry .whl .bench/full_1            `R9 recv`           (livingroom; gsplat builds behind)
 #   2 carry .bench/ray1                   `R9 recv`
 #   3 carry .bench/ray2                   `R9 recv && R9 start`
@@ -17,23 +17,9 @@
 # Measured (session 23, 4x H200): 452 s on two GPUs against 571 s on one beside it, 1.26x: Direct's exemplar
 # inpainting (203 s beside the trainings) follows the base stages on the critical path (docs/BENCHMARKS.md, "Run 9").
 B=/tmp/b; R8=docs/benchmarks/full/run8/device.sh
-export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3) SPLATFILL_WEIGHTS=/tmp/weights
-METHODS="init reference ft3 ftall direct"; INPAINTERS="telea exemplar"
-CHAINS=${CHAINS:-"0:livingroom_s0:0 1,2:livingroom_s0:0:x2 3:livingroom_s0:1"}
+export CHAINS=${CHAINS:-"0:livingroom_s0:0 1,2:livingroom_s0:0:x2 3:livingroom_s0:1"}
 untagged() { for c in $CHAINS; do [ $(tr -cd : <<< "$c" | wc -c) = 2 ] && echo -n "$c "; done; }
 case $1 in
-start)
-  for k in $(seq 60); do grep -q built $B/gsplat.log && break; sleep 5; done; cat $B/gsplat.log
-  [ -f $B/code/.copied ] || { rm -rf $B/code; cp -r . $B/code; touch $B/code/.copied; }
-  cd $B/code || exit 1
-  for c in $CHAINS; do IFS=: read gpu sc s tag <<< "$c"; name=${sc}_$s${tag:+_$tag}
-    [ -f $B/scenes/$sc/.ready ] && [ ! -f $B/start_$name ] || continue
-    date +%s > $B/start_$name
-    CUDA_VISIBLE_DEVICES=$gpu setsid nohup python3 scripts/benchmark.py --scenes $B/scenes/$sc --methods $METHODS \
-      --inpainters $INPAINTERS --seeds $s --out $B/o_$name --complete-steps 10000 --device cuda \
-      > $B/runner_$name.log 2>&1 < /dev/null &
-  done
-  sleep 30; tail -n 2 $B/runner_*.log; nvidia-smi --query-gpu=index,name,utilization.gpu,memory.used --format=csv;;
 collect)
   CHAINS="$(untagged)" bash $R8 collect
   mkdir -p $B/tagged; for c in $CHAINS; do IFS=: read gpu sc s tag <<< "$c"; [ -n "$tag" ] || continue
