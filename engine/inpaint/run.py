@@ -30,7 +30,7 @@ from engine.base.progress import Progress, emit
 from engine.edit.support_plane import removal_plane, stop_at_plane
 from engine.formats.cameras import Camera
 from engine.formats.layout import HolesLayout, InpaintedLayout, RemovedLayout, RunLayout
-from engine.inpaint.registry import create
+from engine.inpaint.registry import Inpainter, create
 from engine.io.image_io import exr_name, read_depth, read_png, write_depth, write_png
 from engine.io.masks import dilate
 from engine.pictures.preview import colorize_depth, label, overlay
@@ -127,7 +127,7 @@ class _ViewJob:
     """One view's inpainting with everything it needs held by value or by path, so that a worker process can
     run it from a pickled copy (the inpainter too: those that ask for processes hold no weights)."""
 
-    inpainter: object
+    inpainter: Inpainter
     dilate: int
     prompt: str | None
     direct: bool

@@ -3,7 +3,7 @@ effect region of the test views (outside the holes) the removed/gt ratio of its 
 just past it, and its brighter and darker halves by gt/'s luminance, with the texture's contrast against gt/'s;
 a picture of the first test view with an effect: each removal, then gt/.
 
-    python docs/benchmarks/effects/session23/score.py SCENE REMOVED... [--picture OUT.png]
+    PYTHONPATH=. python docs/benchmarks/effects/session23/score.py SCENE REMOVED... [--picture OUT.png]
 """
 
 from __future__ import annotations
@@ -15,11 +15,13 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-LUMA = np.array([0.2126, 0.7152, 0.0722])
+from engine.edit.effects import LUMA
+from engine.io.image_io import read_png
+from engine.metrics.image_metrics import psnr_from_mse
 
 
 def load(path: Path) -> np.ndarray:
-    return cv2.imread(str(path))[..., ::-1].astype(np.float64) / 255.0
+    return read_png(path) / 255.0
 
 
 def parts(effect: np.ndarray, hole: np.ndarray) -> dict[str, np.ndarray]:
@@ -35,14 +37,14 @@ def score(scene: Path, removed: Path, views: list[str]) -> None:
           f"{report['psnr_revealed']:.3f} dB, shadow {report['effects']['shadow']}")
     pooled: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {}
     for name in views:
-        effect = cv2.imread(str(scene / "effects" / name), 0) > 0
-        hole = cv2.imread(str(scene / "holes" / name), 0) > 0
+        effect = read_png(scene / "effects" / name, "mask") > 0
+        hole = read_png(scene / "holes" / name, "mask") > 0
         gt, out = load(scene / "gt" / name), load(removed / "images" / name)
         for part, mask in parts(effect, hole).items():
             pooled.setdefault(part, []).append((out[mask], gt[mask]))
     for part, pairs in pooled.items():
         out, gt = np.concatenate([p[0] for p in pairs]), np.concatenate([p[1] for p in pairs])
-        psnr = 10 * np.log10(1 / max(((out - gt) ** 2).mean(), 1e-12))
+        psnr = psnr_from_mse(float(((out - gt) ** 2).mean()))
         print(f"  {part:13s} {len(out):7d} px  removed/gt {(out.mean(0) / gt.mean(0)).round(3)}  {psnr:.2f} dB")
         if part == "interior":
             y = gt @ LUMA
@@ -56,7 +58,7 @@ def main(args: list[str]) -> None:
     args = [a for a in args if a != "--picture" and a != picture]
     scene, removals = Path(args[0]), [Path(a) for a in args[1:]]
     views = [n for n in json.loads((scene / "split.json").read_text())["test"]
-             if (scene / "effects" / n).is_file() and cv2.imread(str(scene / "effects" / n), 0).any()]
+             if (scene / "effects" / n).is_file() and read_png(scene / "effects" / n, "mask").any()]
     for removed in removals:
         score(scene, removed, views)
     if picture and views:
