@@ -10,7 +10,8 @@ an isophote flows into the hole, so linear structures are continued first); the 
 priority takes the patch from the known region around the hole that best matches its known pixels (sum
 of squared differences), copies it into its unknown pixels, and passes its confidence on to them. Source
 patches come from the originally known pixels within a window around the hole (the hole's bounding box
-grown by its own size, at least WINDOW_MARGIN px), so the search is one matrix-vector product per patch.
+grown by its own size, at least WINDOW_MARGIN px); the search over them is a correlation of that window with
+the target patch (_SourceSearch).
 """
 
 from __future__ import annotations
@@ -75,8 +76,7 @@ def exemplar_fill(image: np.ndarray, mask: np.ndarray, patch: int = PATCH) -> np
     confidence = (~unknown).astype(np.float32)
     inside = np.pad(np.ones(mask[win_r, win_c].shape, bool), half, mode="constant", constant_values=False)
     device = torch.device("cuda" if torch.cuda.is_available() else "cpu")
-    sources, offsets = _source_patches(work, inside & ~unknown, patch, device)
-    squares = sources * sources
+    search = _SourceSearch(work, inside & ~unknown, patch, device)
     h, w = unknown.shape
     priority = _priority(work, unknown, confidence, patch)
     left = int(unknown.sum())
@@ -85,8 +85,7 @@ def exemplar_fill(image: np.ndarray, mask: np.ndarray, patch: int = PATCH) -> np
         r, c = min(max(r, half), h - half - 1), min(max(c, half), w - half - 1)
         rows, cols = slice(r - half, r + half + 1), slice(c - half, c + half + 1)
         fill = unknown[rows, cols].copy()
-        best = _best_source(sources, squares, work[rows, cols], ~fill, device)
-        sr, sc = offsets[best]
+        sr, sc = search.best(work[rows, cols], ~fill)
         work[rows, cols][fill] = work[sr - half:sr + half + 1, sc - half:sc + half + 1][fill]
         confidence[rows, cols][fill] = confidence[rows, cols].sum() / patch ** 2
         unknown[rows, cols] &= ~fill
@@ -110,29 +109,44 @@ def _update(priority: np.ndarray, work: np.ndarray, unknown: np.ndarray, confide
     priority[ia:ib, ja:jb] = local[ia - outer[0][0]:ib - outer[0][0], ja - outer[1][0]:jb - outer[1][0]]
 
 
-def _source_patches(work: np.ndarray, known: np.ndarray, patch: int, device: torch.device
-                    ) -> tuple[torch.Tensor, np.ndarray]:
-    """Every patch of the window whose pixels are all known (and inside the image: the window is padded)
-    as a row (N, patch * patch * 3), and its centre (row, col)."""
-    half = patch // 2
-    whole = cv2.erode(known.astype(np.uint8), np.ones((patch, patch), np.uint8),
-                      borderType=cv2.BORDER_CONSTANT, borderValue=0) > 0
-    centres = np.argwhere(whole)
-    picture = torch.as_tensor(work, device=device).permute(2, 0, 1)[None]
-    columns = torch.nn.functional.unfold(picture, patch)[0].T  # (positions, 3 * patch * patch), row-major
-    width = work.shape[1] - 2 * half
-    index = torch.as_tensor((centres[:, 0] - half) * width + (centres[:, 1] - half), device=device)
-    return columns[index].contiguous(), centres
+class _SourceSearch:
+    """The source patch of least SSD over a target's known pixels, as a correlation of the window.
 
+    sum_k w_k (s_k - t_k)^2 = sum_k w_k s_k^2 - 2 sum_k w_k t_k s_k + const over the 9x9x3 pixels of every
+    source centre is four correlations with a 9x9 kernel: the window's squared sum over channels with the
+    known mask w, and each channel with -2 w t. That reads the window (H x W x 4 values) instead of a matrix of
+    every source patch unrolled (H x W x 243): 4 ms a patch on one CPU core against 42 ms for the matrix, and no
+    matrix of 300 MB on a GPU per view. Source patches are the originally known ones, which filling never
+    changes, so the planes are set once."""
 
-def _best_source(sources: torch.Tensor, squares: torch.Tensor, target: np.ndarray, target_known: np.ndarray,
-                 device: torch.device) -> int:
-    """The source patch of least SSD over the target's known pixels (unfold's channel-major order)."""
-    values = torch.as_tensor(np.ascontiguousarray(target.transpose(2, 0, 1)).reshape(-1), device=device)
-    weight = torch.as_tensor(np.tile(target_known.reshape(-1), 3), device=device, dtype=torch.float32)
-    # sum w (s - t)^2 = (s^2) . w - 2 s . (w t) + const
-    ssd = squares @ weight - 2 * (sources @ (weight * values))
-    return int(torch.argmin(ssd))
+    def __init__(self, work: np.ndarray, known: np.ndarray, patch: int, device: torch.device) -> None:
+        self.half = patch // 2
+        whole = cv2.erode(known.astype(np.uint8), np.ones((patch, patch), np.uint8),
+                          borderType=cv2.BORDER_CONSTANT, borderValue=0) > 0
+        planes = np.concatenate([(work * work).sum(2, keepdims=True), work], axis=2).transpose(2, 0, 1)
+        self.planes = np.ascontiguousarray(planes, dtype=np.float32)  # (4, H, W): sum of squares, R, G, B
+        self.penalty = np.where(whole, 0.0, np.inf).astype(np.float32)
+        self.width = work.shape[1]
+        self.device = device
+        if device.type != "cpu":
+            self.planes_t = torch.as_tensor(self.planes, device=device)[None]
+            self.penalty_t = torch.as_tensor(self.penalty, device=device)
+
+    def best(self, target: np.ndarray, target_known: np.ndarray) -> tuple[int, int]:
+        """The (row, col) centre of the best source for `target` (patch, patch, 3) over its known pixels."""
+        w = target_known.astype(np.float32)
+        kernels = np.concatenate([w[None], -2 * (w[..., None] * target).transpose(2, 0, 1)]).astype(np.float32)
+        if self.device.type == "cpu":
+            ssd = self.penalty.copy()
+            for plane, kernel in zip(self.planes, kernels, strict=True):
+                ssd += cv2.filter2D(plane, -1, kernel, borderType=cv2.BORDER_CONSTANT)
+            index = int(np.argmin(ssd))
+        else:
+            with torch.backends.cudnn.flags(enabled=True, allow_tf32=False):  # TF32's 10-bit mantissa ties sums
+                ssd = torch.nn.functional.conv2d(self.planes_t, torch.as_tensor(kernels, device=self.device)[None],
+                                                 padding=self.half)[0, 0]
+            index = int(torch.argmin(ssd + self.penalty_t))
+        return divmod(index, self.width)
 
 
 @register("exemplar")

@@ -1,0 +1,66 @@
+"""Exemplar's patch search as a correlation of the window (engine.inpaint.inpainters.exemplar._SourceSearch)
+against the unrolled source matrix it replaced, on a scene's real object regions (beside_training.py's views).
+
+    PYTHONPATH=. python docs/benchmarks/inpaint/search_speed.py SCENE [VIEWS] [WORKERS] [--old OLD.py]
+
+OLD.py is the previous exemplar.py (`git show 3a1c0b4~1:engine/inpaint/inpainters/exemplar.py`, saved outside the
+tree): one view at a time through it, then the new search one at a time and in WORKERS processes, and whether the
+fills are identical to the old ones. With CUDA_VISIBLE_DEVICES= the new search runs on the CPU (cv2's correlation).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import torch
+
+sys.path.insert(0, str(Path(__file__).parent))
+from beside_training import _views  # noqa: E402
+
+from engine.inpaint.inpainters.exemplar import exemplar_fill  # noqa: E402
+from engine.inpaint.run import _each_view  # noqa: E402
+
+
+def _load(path: str):
+    spec = importlib.util.spec_from_file_location("exemplar_old", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.exemplar_fill
+
+
+def _timed(fill, views, workers: int) -> tuple[float, dict[int, np.ndarray]]:
+    start = time.perf_counter()
+    fills = dict(_each_view(fill, views, workers, "processes" if workers > 1 else ""))
+    return time.perf_counter() - start, fills
+
+
+def _identical(fills: dict[int, np.ndarray], reference: dict[int, np.ndarray], views) -> float:
+    """The share of the regions' pixels that came out the same as the old search's."""
+    return float(np.mean([(fills[i] == reference[i]).all(-1)[views[i][1]].mean() for i in fills]))
+
+
+def main() -> None:
+    args = [a for a in sys.argv[1:] if not a.startswith("--old")]
+    old = next((a.split("=", 1)[1] for a in sys.argv[1:] if a.startswith("--old=")), "")
+    scene, count = Path(args[0]), int(args[1]) if len(args) > 1 else 16
+    workers = int(args[2]) if len(args) > 2 else 8
+    views = _views(scene, count)
+    device = torch.cuda.get_device_name() if torch.cuda.is_available() else "cpu"
+    print(f"{len(views)} views, {np.mean([r.sum() for _, r in views]):.0f} px a region, {device}", flush=True)
+    exemplar_fill(*views[0])  # CUDA's first-call set-up, outside the timings
+    reference = None
+    if old:
+        seconds, reference = _timed(_load(old), views, 1)
+        print(f"old search, one at a time: {seconds / len(views):.2f} s a view", flush=True)
+    for n in (1, workers):
+        seconds, fills = _timed(exemplar_fill, views, n)
+        same = "" if reference is None else f", identical pixels {_identical(fills, reference, views):.4f}"
+        print(f"new search, {n} at once: {seconds / len(views):.2f} s a view{same}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
