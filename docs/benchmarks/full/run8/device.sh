@@ -48,9 +48,11 @@ collect)  # records and sheets through run 6's and run 3's collectors, one seed 
   mkdir -p $B/out/work; for c in $CHAINS; do IFS=: read gpu sc s <<< "$c"; mkdir -p $B/out/work/$sc
     ln -sfn $B/o_${sc}_$s/work/$sc/seed$s $B/out/work/$sc/seed$s; done
   for f in $B/start_*; do echo "$f $(cat $f)"; done > $B/bench_starts.log; nvidia-smi -L >> $B/bench_starts.log
-  for s in 0 1; do SEED=$s PERCEPTUAL=st-lpips METHODS="$METHODS" INPAINTERS="$INPAINTERS" \
+  seeds=$(for c in $CHAINS; do IFS=: read gpu sc s tag <<< "$c"; echo $s; done | sort -u)  # run 10: seed 1 alone
+  for s in $seeds; do SEED=$s PERCEPTUAL=st-lpips METHODS="$METHODS" INPAINTERS="$INPAINTERS" \
     bash docs/benchmarks/full/collect.sh 0 > $B/collect_$s.log 2>&1; mkdir -p $OUT/seed$s
-    [ $s = 1 ] && rm -f $OUT/sheets_*.tgz $OUT/logs.tgz  # at most 8 files come back: seed 1's records only
+    # at most 8 files come back: the first seed's sheets and logs, the others' records only
+    [ $s = $(head -1 <<< "$seeds") ] || rm -f $OUT/sheets_*.tgz $OUT/logs.tgz
     mv $OUT/*.tgz $OUT/seed$s/; done
   rm -rf $B/base && mkdir -p $B/base && for c in $CHAINS; do IFS=: read gpu sc s <<< "$c"; r=$B/o_${sc}_$s/work/$sc/seed$s/run
     [ -f $r/point_cloud.ply ] || continue; cp $r/metrics.json $B/base/${sc}_$s.metrics.json
