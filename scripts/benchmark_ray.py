@@ -64,11 +64,11 @@ def cell_task(failed: str, scene: str, seed: int, inpainter: str, method: str, w
 
 
 # the share of a GPU a light inpainting task asks for; training tasks (base runs, cells) ask for the rest. The
-# inpainters without model weights are CPU work (OpenCV) or a patch search of many small kernels (exemplar,
-# 150-159 s on 100 views for the direct baseline on an H100, run 3), so a whole GPU for them kept the cells
-# waiting: in run 3 the first cell started about 200 s after the base runs. With these shares such an inpainting
-# runs beside the trainings on a GPU (TRAININGS_PER_GPU of them). Model inpainters (LaMa, diffusion) ask
-# for a training's share, as a training would.
+# inpainters without model weights are CPU work (OpenCV, and exemplar since session 24; before, its patch search
+# ran on the GPU: 150-159 s on 100 views for the direct baseline on an H100, run 3), so a whole GPU for them kept
+# the cells waiting: in run 3 the first cell started about 200 s after the base runs. With these shares such an
+# inpainting runs beside the trainings on a GPU (TRAININGS_PER_GPU of them). Model inpainters (LaMa, diffusion)
+# ask for a training's share, as a training would.
 INPAINT_GPU_SHARE = 0.01
 # training stages on one GPU at once, by default. A step at 300k Gaussians is bound by the host (6.1 ms, 4.9 ms of
 # kernels), so two processes keep a GPU busier: livingroom's whole matrix on one H200 took 785 s with one at a

@@ -1,11 +1,13 @@
 """Exemplar's patch search as a correlation of the window (engine.inpaint.inpainters.exemplar._SourceSearch)
 against the unrolled source matrix it replaced, on a scene's real object regions (beside_training.py's views).
 
-    PYTHONPATH=. python docs/benchmarks/inpaint/search_speed.py SCENE [VIEWS] [WORKERS] [--old OLD.py]
+    PYTHONPATH=. python docs/benchmarks/inpaint/search_speed.py SCENE [VIEWS] [WORKERS,...] [--old=OLD.py]
 
-OLD.py is the previous exemplar.py (`git show 3a1c0b4~1:engine/inpaint/inpainters/exemplar.py`, saved outside the
-tree): one view at a time through it, then the new search one at a time and in WORKERS processes, and whether the
-fills are identical to the old ones. With CUDA_VISIBLE_DEVICES= the new search runs on the CPU (cv2's correlation).
+OLD.py is the previous exemplar.py (`git show b0eaac9:engine/inpaint/inpainters/exemplar.py`, saved outside the
+tree): one view at a time through it, then the new search in processes, once for each count in WORKERS (1: one
+at a time; default 1,8), and whether the fills are identical to the old ones. d1a4076's first form searched on the
+GPU where there was one (run 10's first call measured both; CUDA_VISIBLE_DEVICES= made it use the CPU); the
+search now always runs on the CPU.
 """
 
 from __future__ import annotations
@@ -47,7 +49,7 @@ def main() -> None:
     args = [a for a in sys.argv[1:] if not a.startswith("--old")]
     old = next((a.split("=", 1)[1] for a in sys.argv[1:] if a.startswith("--old=")), "")
     scene, count = Path(args[0]), int(args[1]) if len(args) > 1 else 16
-    workers = int(args[2]) if len(args) > 2 else 8
+    workers = [int(n) for n in (args[2] if len(args) > 2 else "1,8").split(",")]
     views = _views(scene, count)
     device = torch.cuda.get_device_name() if torch.cuda.is_available() else "cpu"
     print(f"{len(views)} views, {np.mean([r.sum() for _, r in views]):.0f} px a region, {device}", flush=True)
@@ -56,7 +58,7 @@ def main() -> None:
     if old:
         seconds, reference = _timed(_load(old), views, 1)
         print(f"old search, one at a time: {seconds / len(views):.2f} s a view", flush=True)
-    for n in (1, workers):
+    for n in workers:
         seconds, fills = _timed(exemplar_fill, views, n)
         same = "" if reference is None else f", identical pixels {_identical(fills, reference, views):.4f}"
         print(f"new search, {n} at once: {seconds / len(views):.2f} s a view{same}", flush=True)

@@ -3,7 +3,7 @@
 Why our own: the benchmark asks whether a smooth inpainter (Telea, Navier-Stokes) beats a texture-synthesis
 one in 3D, and OpenCV's texture-synthesis inpainter (xphoto's shift-map) is only in the contrib build,
 which the GPU machine does not have and whose wheel (69 MB) does not fit a device transfer. This one needs
-only numpy and torch, and runs on the GPU when there is one.
+only numpy and OpenCV's core, on the CPU.
 
 The algorithm, as published: the fill front is ordered by priority = confidence x data term (how strongly
 an isophote flows into the hole, so linear structures are continued first); the front pixel of highest
@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
-import torch
 
 from engine.inpaint.registry import Inpainter, register
 
@@ -75,8 +74,7 @@ def exemplar_fill(image: np.ndarray, mask: np.ndarray, patch: int = PATCH) -> np
     unknown = np.pad(mask[win_r, win_c], half, mode="constant", constant_values=False)
     confidence = (~unknown).astype(np.float32)
     inside = np.pad(np.ones(mask[win_r, win_c].shape, bool), half, mode="constant", constant_values=False)
-    device = torch.device("cuda" if torch.cuda.is_available() else "cpu")
-    search = _SourceSearch(work, inside & ~unknown, patch, device)
+    search = _SourceSearch(work, inside & ~unknown, patch)
     h, w = unknown.shape
     priority = _priority(work, unknown, confidence, patch)
     left = int(unknown.sum())
@@ -115,53 +113,41 @@ class _SourceSearch:
     sum_k w_k (s_k - t_k)^2 = sum_k w_k s_k^2 - 2 sum_k w_k t_k s_k + const over the 9x9x3 pixels of every
     source centre is four correlations with a 9x9 kernel: the window's squared sum over channels with the
     known mask w, and each channel with -2 w t. That reads the window (H x W x 4 values) instead of a matrix of
-    every source patch unrolled (H x W x 243): 4 ms a patch on one CPU core against 42 ms for the matrix, and no
-    matrix of 300 MB on a GPU per view. Source patches are the originally known ones, which filling never
-    changes, so the planes are set once."""
+    every source patch unrolled (H x W x 243): 4 ms a patch on one CPU core against 42 ms for the matrix, the
+    same fills. Source patches are the originally known ones, which filling never changes, so the planes are set
+    once. On the CPU only: on an H200 the GPU's correlation took 1.19 s a 640x480 view, no faster than the matrix
+    (1.20 s), since a patch's other work is on the host, and views in processes then wait on each other's GPU
+    contexts (1.14 s a view with eight); on the CPU one view takes 6.7 s, and views in processes spread over the
+    cores (docs/benchmarks/inpaint/search_speed.py)."""
 
-    def __init__(self, work: np.ndarray, known: np.ndarray, patch: int, device: torch.device) -> None:
-        self.half = patch // 2
+    def __init__(self, work: np.ndarray, known: np.ndarray, patch: int) -> None:
         whole = cv2.erode(known.astype(np.uint8), np.ones((patch, patch), np.uint8),
                           borderType=cv2.BORDER_CONSTANT, borderValue=0) > 0
         planes = np.concatenate([(work * work).sum(2, keepdims=True), work], axis=2).transpose(2, 0, 1)
         self.planes = np.ascontiguousarray(planes, dtype=np.float32)  # (4, H, W): sum of squares, R, G, B
         self.penalty = np.where(whole, 0.0, np.inf).astype(np.float32)
         self.width = work.shape[1]
-        self.device = device
-        if device.type != "cpu":
-            self.planes_t = torch.as_tensor(self.planes, device=device)[None]
-            self.penalty_t = torch.as_tensor(self.penalty, device=device)
 
     def best(self, target: np.ndarray, target_known: np.ndarray) -> tuple[int, int]:
         """The (row, col) centre of the best source for `target` (patch, patch, 3) over its known pixels."""
         w = target_known.astype(np.float32)
         kernels = np.concatenate([w[None], -2 * (w[..., None] * target).transpose(2, 0, 1)]).astype(np.float32)
-        if self.device.type == "cpu":
-            ssd = self.penalty.copy()
-            for plane, kernel in zip(self.planes, kernels, strict=True):
-                ssd += cv2.filter2D(plane, -1, kernel, borderType=cv2.BORDER_CONSTANT)
-            index = int(np.argmin(ssd))
-        else:
-            with torch.backends.cudnn.flags(enabled=True, allow_tf32=False):  # TF32's 10-bit mantissa ties sums
-                ssd = torch.nn.functional.conv2d(self.planes_t, torch.as_tensor(kernels, device=self.device)[None],
-                                                 padding=self.half)[0, 0]
-            index = int(torch.argmin(ssd + self.penalty_t))
-        return divmod(index, self.width)
+        ssd = self.penalty.copy()
+        for plane, kernel in zip(self.planes, kernels, strict=True):
+            ssd += cv2.filter2D(plane, -1, kernel, borderType=cv2.BORDER_CONSTANT)
+        return divmod(int(np.argmin(ssd)), self.width)
 
 
 @register("exemplar")
 class Exemplar(Inpainter):
-    summary = "exemplar-based texture synthesis (Criminisi 2004), ours, in torch"
+    summary = "exemplar-based texture synthesis (Criminisi 2004), ours, on the CPU"
 
     def parallel_views(self) -> str:
-        """On the CPU its patch search is many small torch ops, which one view cannot spread over cores (two
-        views in two threads: 1.98x one after the other at 640x480). On a GPU, threads gain nothing (1.02x on 16
-        synthetic views, 0.87x on a livingroom's 100 direct regions on an H200, run 5). Processes, on those 100
-        regions alone on an H200, 1.09x with four and 1.07x with eight (run 8: within the 9% that runs of one
-        view at a time differ by); beside the matrix's two trainings a GPU, 217 s with eight in run 8 against
-        309-329 s one at a time in run 7 (another host's load; not measured side by side). The processes take
-        a larger share of a GPU shared with trainings, on the benchmark's critical path (Direct's inpainting)."""
-        return "processes" if torch.cuda.is_available() else "threads"
+        """Processes: a view is a Python loop of one patch at a time (6.7 s a 640x480 view on one core of the H200
+        host), so views go at once only in processes, one a core (16 views: 1.16 s a view with sixteen, their
+        start included). The search ran on the GPU before (d1a4076's first form): there processes wait on each
+        other's GPU contexts, 1.19 s a view alone and 1.14 with eight, and take the GPU from trainings beside."""
+        return "processes"
 
     def inpaint_rgb(self, image, mask, prompt):
         return exemplar_fill(image, mask)
