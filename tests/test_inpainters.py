@@ -42,6 +42,19 @@ def test_exemplar_continues_a_repeating_texture_exactly_where_a_smooth_fill_blur
     assert np.abs(create("telea").inpaint(board, hole)[hole].astype(float) - board[hole]).mean() > 20
 
 
+def test_exemplar_fills_depth_on_one_channel_as_it_would_on_three_equal_ones():
+    """Depth's grey is searched on one channel (half the correlations); three equal channels triple every sum
+    of squared differences, so the patches chosen, and the fill, must be the same."""
+    from engine.inpaint.registry import Inpainter
+
+    depth = (2.0 + X / 50.0 + 0.3 * np.sin(X / 5) * np.cos(Y / 7)).astype(np.float32)
+    exemplar = create("exemplar")
+    grey = np.repeat(((depth - depth.min()) / np.ptp(depth) * 255).astype(np.uint8)[..., None], 3, axis=2)
+    one = exemplar.inpaint_grey(grey, MASK, None)
+    three = Inpainter.inpaint_grey(exemplar, grey, MASK, None)
+    assert (one == three).all() and (one[~MASK] == grey[~MASK]).all()
+
+
 def test_registry_lists_every_inpainter_and_rejects_unknown_names():
     assert {"telea", "navier-stokes", "fsr", "shiftmap", "exemplar", "lama", "diffusion", "nanobanana"} <= set(names())
     with pytest.raises(InputError, match="available: diffusion, exemplar, fsr"):
