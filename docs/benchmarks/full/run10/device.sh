@@ -13,7 +13,9 @@
 #   4 carry .bench/ray2                        `R10 recv && R10 start`    (start copies this call's tree)
 #   5 carry .bench/fid1 .bench/fid2            `R10 recv`
 #   6 carry .bench/fid3 .bench/fid4            `R10 recv && R10 judge`
-#   then waits (`R10 wait N`) and `R10 collect` (the judge's and the search's outputs come back in base.tgz's ex/).
+#   then `R10 finish N`: waits up to N s, then collects (the judge's and the search's outputs come back in base.tgz's
+#   ex/). Session 24 waited in one call and collected in the next: the machine went back between the two (30 s
+#   idle) and every record was lost, so the wait and the collect are one command now.
 B=/tmp/b
 export CHAINS=${CHAINS:-"0:statue_s0:1 1,2:statue_s0:1:x2"}
 case $1 in
@@ -30,5 +32,7 @@ wait)
   while [ $(date +%s) -lt $end ] && ! { grep -q "10/10" $B/runner_statue_s0_1.log 2>/dev/null &&
     grep -q "10/10" $B/runner_statue_s0_1_x2.log 2>/dev/null && [ -f $B/ex/judge.txt ]; }; do sleep 10; done
   tail -n 1 $B/runner_*.log; tail -n 3 $B/ex/judge.log;;
+finish)
+  bash $0 wait $2; bash $0 collect;;
 *) bash docs/benchmarks/full/run9/device.sh "$@";;
 esac
