@@ -21,11 +21,11 @@ export CHAINS=${CHAINS:-"0:statue_s0:1 1,2:statue_s0:1:x2"}
 case $1 in
 search)
   mkdir -p $B/ex; export PYTHONPATH=/tmp/site:.; S=$B/scenes/livingroom_s0
-  CUDA_VISIBLE_DEVICES=3 python3 docs/benchmarks/inpaint/search_speed.py $S 16 8 --old=.bench/oldex/exemplar_old.py \
+  CUDA_VISIBLE_DEVICES=3 python3 docs/benchmarks/inpaint/search_speed.py $S 16 1,8 --old=.bench/oldex/exemplar_old.py \
     2>&1 | tee $B/ex/search_gpu.txt
-  CUDA_VISIBLE_DEVICES= python3 docs/benchmarks/inpaint/search_speed.py $S 16 16 2>&1 | tee $B/ex/search_cpu.txt;;
+  CUDA_VISIBLE_DEVICES= python3 docs/benchmarks/inpaint/search_speed.py $S 16 1,16 2>&1 | tee $B/ex/search_cpu.txt;;
 judge)
-  rm -rf /tmp/jcode && cp -r . /tmp/jcode && cd /tmp/jcode && JOUT=$B/ex CUDA_VISIBLE_DEVICES=3 OMP_NUM_THREADS=16 \
+  rm -rf /tmp/jcode && cp -r . /tmp/jcode && cd /tmp/jcode && JOUT=$B/ex CUDA_VISIBLE_DEVICES=${JUDGE_GPU:-3} OMP_NUM_THREADS=16 \
     setsid nohup bash docs/benchmarks/effects/session23/judge.sh > $B/ex/judge.log 2>&1 < /dev/null & sleep 5;;
 wait)
   end=$(( $(date +%s) + $2 ))
