@@ -111,26 +111,26 @@ def _update(priority: np.ndarray, work: np.ndarray, unknown: np.ndarray, confide
 class _SourceSearch:
     """The source patch of least SSD over a target's known pixels, as a correlation of the window.
 
-    sum_k w_k (s_k - t_k)^2 = sum_k w_k s_k^2 - 2 sum_k w_k t_k s_k + const over the 9x9x3 pixels of every
-    source centre is four correlations with a 9x9 kernel: the window's squared sum over channels with the
-    known mask w, and each channel with -2 w t. That reads the window (H x W x 4 values) instead of a matrix of
-    every source patch unrolled (H x W x 243): 4 ms a patch on one CPU core against 42 ms for the matrix, the
-    same fills. Source patches are the originally known ones, which filling never changes, so the planes are set
-    once. On the CPU only: on an H200 the GPU's correlation took 1.19 s a 640x480 view, no faster than the matrix
-    (1.20 s), since a patch's other work is on the host, and views in processes then wait on each other's GPU
-    contexts (1.14 s a view with eight); on the CPU one view takes 6.7 s, and views in processes spread over the
-    cores (docs/benchmarks/inpaint/search_speed.py)."""
+    sum_k w_k (s_k - t_k)^2 = sum_k w_k s_k^2 - 2 sum_k w_k t_k s_k + const over the 9x9 pixels (and channels)
+    of every source centre is one correlation with a 9x9 kernel per channel and one more: the window's squared
+    sum over channels with the known mask w, and each channel with -2 w t. For RGB that reads the window (H x W
+    x 4 values) instead of a matrix of every source patch unrolled (H x W x 243): 4 ms a patch on one CPU core
+    against 42 ms for the matrix, the same fills. Source patches are the originally known ones, which filling
+    never changes, so the planes are set once. On the CPU only: on an H200 the GPU's correlation took 1.19 s a
+    640x480 view, no faster than the matrix (1.20 s), since a patch's other work is on the host, and views in
+    processes then wait on each other's GPU contexts (1.14 s a view with eight); on the CPU one view takes 6.7 s,
+    and views in processes spread over the cores (docs/benchmarks/inpaint/search_speed.py)."""
 
     def __init__(self, work: np.ndarray, known: np.ndarray, patch: int) -> None:
         whole = cv2.erode(known.astype(np.uint8), np.ones((patch, patch), np.uint8),
                           borderType=cv2.BORDER_CONSTANT, borderValue=0) > 0
         planes = np.concatenate([(work * work).sum(2, keepdims=True), work], axis=2).transpose(2, 0, 1)
-        self.planes = np.ascontiguousarray(planes, dtype=np.float32)  # (4, H, W): sum of squares, R, G, B
+        self.planes = np.ascontiguousarray(planes, dtype=np.float32)  # (1 + C, H, W): sum of squares, channels
         self.penalty = np.where(whole, 0.0, np.inf).astype(np.float32)
         self.width = work.shape[1]
 
     def best(self, target: np.ndarray, target_known: np.ndarray) -> tuple[int, int]:
-        """The (row, col) centre of the best source for `target` (patch, patch, 3) over its known pixels."""
+        """The (row, col) centre of the best source for `target` (patch, patch, C) over its known pixels."""
         w = target_known.astype(np.float32)
         kernels = np.concatenate([w[None], -2 * (w[..., None] * target).transpose(2, 0, 1)]).astype(np.float32)
         ssd = self.penalty.copy()
@@ -144,10 +144,11 @@ class Exemplar(Inpainter):
     summary = "exemplar-based texture synthesis (Criminisi 2004), ours, on the CPU"
 
     def parallel_views(self) -> str:
-        """Processes: a view is a Python loop of one patch at a time (6.7 s a 640x480 view on one core of the H200
-        host), so views go at once only in processes, one a core (16 views: 1.16 s a view with sixteen, their
-        start included). The search ran on the GPU before (d1a4076's first form): there processes wait on each
-        other's GPU contexts, 1.19 s a view alone and 1.14 with eight, and take the GPU from trainings beside."""
+        """Processes: a view is a Python loop of one patch at a time (6.7 s a 640x480 view on one core of an H200
+        host), so views go at once in processes, one a core: 100 livingroom direct regions took 0.86 s a view
+        with eight, 0.63 with sixteen, their start included. The search ran on the GPU before (d1a4076's first
+        form): there processes wait on each other's GPU contexts (1.19 s a view alone, 1.14 with eight) and take
+        the GPU from trainings beside."""
         return "processes"
 
     def inpaint_rgb(self, image, mask, prompt):
