@@ -36,9 +36,10 @@ def _views(scene: Path, count: int) -> list[tuple[np.ndarray, np.ndarray]]:
     return out
 
 
-def _timed(views, workers: int) -> tuple[float, dict[int, np.ndarray]]:
+def _timed(views, workers: int, fill=exemplar_fill) -> tuple[float, dict[int, np.ndarray]]:
+    """Seconds for `fill` over every view, one at a time or in `workers` processes, and the fills by view."""
     start = time.perf_counter()
-    fills = dict(_each_view(exemplar_fill, views, workers, "processes" if workers > 1 else ""))
+    fills = dict(_each_view(fill, views, workers, "processes" if workers > 1 else ""))
     return time.perf_counter() - start, fills
 
 

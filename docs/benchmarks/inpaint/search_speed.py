@@ -13,18 +13,16 @@ search now always runs on the CPU.
 from __future__ import annotations
 
 import importlib.util
+import os
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
-import torch
 
 sys.path.insert(0, str(Path(__file__).parent))
-from beside_training import _views  # noqa: E402
+from beside_training import _timed, _views  # noqa: E402
 
 from engine.inpaint.inpainters.exemplar import exemplar_fill  # noqa: E402
-from engine.inpaint.run import _each_view  # noqa: E402
 
 
 def _load(path: str):
@@ -32,12 +30,6 @@ def _load(path: str):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module.exemplar_fill
-
-
-def _timed(fill, views, workers: int) -> tuple[float, dict[int, np.ndarray]]:
-    start = time.perf_counter()
-    fills = dict(_each_view(fill, views, workers, "processes" if workers > 1 else ""))
-    return time.perf_counter() - start, fills
 
 
 def _identical(fills: dict[int, np.ndarray], reference: dict[int, np.ndarray], views) -> float:
@@ -51,15 +43,15 @@ def main() -> None:
     scene, count = Path(args[0]), int(args[1]) if len(args) > 1 else 16
     workers = [int(n) for n in (args[2] if len(args) > 2 else "1,8").split(",")]
     views = _views(scene, count)
-    device = torch.cuda.get_device_name() if torch.cuda.is_available() else "cpu"
-    print(f"{len(views)} views, {np.mean([r.sum() for _, r in views]):.0f} px a region, {device}", flush=True)
-    exemplar_fill(*views[0])  # CUDA's first-call set-up, outside the timings
+    print(f"{len(views)} views, {np.mean([r.sum() for _, r in views]):.0f} px a region, {os.cpu_count()} cores",
+          flush=True)
+    exemplar_fill(*views[0])  # the first call's set-up, outside the timings
     reference = None
     if old:
-        seconds, reference = _timed(_load(old), views, 1)
+        seconds, reference = _timed(views, 1, _load(old))
         print(f"old search, one at a time: {seconds / len(views):.2f} s a view", flush=True)
     for n in workers:
-        seconds, fills = _timed(exemplar_fill, views, n)
+        seconds, fills = _timed(views, n)
         same = "" if reference is None else f", identical pixels {_identical(fills, reference, views):.4f}"
         print(f"new search, {n} at once: {seconds / len(views):.2f} s a view{same}", flush=True)
 
