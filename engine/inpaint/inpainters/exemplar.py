@@ -116,10 +116,8 @@ class _SourceSearch:
     sum over channels with the known mask w, and each channel with -2 w t. For RGB that reads the window (H x W
     x 4 values) instead of a matrix of every source patch unrolled (H x W x 243): 4 ms a patch on one CPU core
     against 42 ms for the matrix, the same fills. Source patches are the originally known ones, which filling
-    never changes, so the planes are set once. On the CPU only: on an H200 the GPU's correlation took 1.19 s a
-    640x480 view, no faster than the matrix (1.20 s), since a patch's other work is on the host, and views in
-    processes then wait on each other's GPU contexts (1.14 s a view with eight); on the CPU one view takes 6.7 s,
-    and views in processes spread over the cores (docs/benchmarks/inpaint/search_speed.py)."""
+    never changes, so the planes are set once. Why on the CPU: Exemplar.parallel_views
+    (docs/benchmarks/inpaint/search_speed.py)."""
 
     def __init__(self, work: np.ndarray, known: np.ndarray, patch: int) -> None:
         whole = cv2.erode(known.astype(np.uint8), np.ones((patch, patch), np.uint8),
