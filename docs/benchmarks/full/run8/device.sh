@@ -49,10 +49,11 @@ collect)  # records and sheets through run 6's and run 3's collectors, one seed 
     ln -sfn $B/o_${sc}_$s/work/$sc/seed$s $B/out/work/$sc/seed$s; done
   for f in $B/start_*; do echo "$f $(cat $f)"; done > $B/bench_starts.log; nvidia-smi -L >> $B/bench_starts.log
   seeds=$(for c in $CHAINS; do IFS=: read gpu sc s tag <<< "$c"; echo $s; done | sort -u)  # run 10: seed 1 alone
+  first=$(head -1 <<< "$seeds")
   for s in $seeds; do SEED=$s PERCEPTUAL=st-lpips METHODS="$METHODS" INPAINTERS="$INPAINTERS" \
     bash docs/benchmarks/full/collect.sh 0 > $B/collect_$s.log 2>&1; mkdir -p $OUT/seed$s
     # at most 8 files come back: the first seed's sheets and logs, the others' records only
-    [ $s = $(head -1 <<< "$seeds") ] || rm -f $OUT/sheets_*.tgz $OUT/logs.tgz
+    [ $s = $first ] || rm -f $OUT/sheets_*.tgz $OUT/logs.tgz
     mv $OUT/*.tgz $OUT/seed$s/; done
   rm -rf $B/base && mkdir -p $B/base && for c in $CHAINS; do IFS=: read gpu sc s <<< "$c"; r=$B/o_${sc}_$s/work/$sc/seed$s/run
     [ -f $r/point_cloud.ply ] || continue; cp $r/metrics.json $B/base/${sc}_$s.metrics.json
