@@ -6,13 +6,16 @@
 #   3 carry .bench/ray2            `R12 recv && R12 start`
 #   4 carry .bench/fid1 .bench/fid2  `R12 recv`
 #   5 carry .bench/fid3 .bench/fid4  `R12 recv`
-#   6 `R12 finish 560`, then `R12 finish N` again if it has not ended: waits, then collects in the same command.
+#   6 `R12 finish 570`: waits for every chain's last cell, then collects in the same command.
+# Then on a fresh machine the same calls with CHAINS=0:statue_s0:0 and .bench/full_3 .bench/full_4 in call 1 for
+# the statue (the slowest family on the H200s, 571-651 s there).
 B=/tmp/b
 export CHAINS=${CHAINS:-"0:livingroom_s0:0"}
 case $1 in
 finish)
   end=$(( $(date +%s) + $2 ))
-  while [ $(date +%s) -lt $end ] && ! grep -q "10/10" $B/runner_livingroom_s0_0.log 2>/dev/null; do sleep 10; done
-  tail -n 2 $B/runner_*.log; grep -q "10/10" $B/runner_livingroom_s0_0.log && bash docs/benchmarks/full/run9/device.sh collect;;
+  done_all() { for c in $CHAINS; do IFS=: read gpu sc s <<< "$c"; grep -q "10/10" $B/runner_${sc}_$s.log 2>/dev/null || return 1; done; }
+  while [ $(date +%s) -lt $end ] && ! done_all; do sleep 10; done
+  tail -n 2 $B/runner_*.log; done_all && bash docs/benchmarks/full/run9/device.sh collect;;
 *) bash docs/benchmarks/full/run9/device.sh "$@";;
 esac
