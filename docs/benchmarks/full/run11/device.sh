@@ -1,4 +1,4 @@
-# Run 11 (issues 16, 18), prepared in session 24, not yet run: run 10 again, with the statue's seed 0 beside it, since
+# Run 11 (issues 16, 18), prepared in session 24, run in session 25 (records: README.md): run 10 again, with the statue's seed 0 beside it, since
 # run 10's records were lost (../run10/README.md). On a four-GPU host, started in the same second:
 # - GPU 0: statue_s0, training seed 0, one GPU (run 9's 651 s was with exemplar's old search on the GPU);
 # - GPU 1: statue_s0, seed 1, one GPU (run 10: 515 s, the only number it kept);
