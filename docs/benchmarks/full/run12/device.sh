@@ -5,8 +5,9 @@
 #   2 carry .bench/ray1            `R12 recv`
 #   3 carry .bench/ray2            `R12 recv && R12 start`
 #   4 carry .bench/fid1 .bench/fid2  `R12 recv`
-#   5 carry .bench/fid3 .bench/fid4  `R12 recv`
-#   6 `R12 finish 570`: waits for every chain's last cell, then collects in the same command.
+#   5 carry .bench/fid3 .bench/fid4  `R12 recv; R12 finish 540`: waits for every chain's last cell, then collects in
+#     the same command (about 30 s: the statue's `finish 575` ran past the 600 s a call may take, and its collect
+#     needed a call of its own).
 # Then on a fresh machine the same calls with CHAINS=0:statue_s0:0 and .bench/full_3 .bench/full_4 in call 1 for
 # the statue (the slowest family on the H200s, 571-651 s there).
 B=/tmp/b
