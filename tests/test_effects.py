@@ -15,6 +15,7 @@ from engine.edit.effects import EffectsConfig, Samples, colors_of, find_shadow, 
 from engine.edit.support_plane import object_core, object_support
 from engine.formats.cameras import Camera, backproject, pixel_grid
 from engine.formats.splat_ply import SH_C0
+from engine.io.image_io import linear_to_srgb, srgb_to_linear
 
 SPACING = 0.04
 
@@ -41,9 +42,10 @@ def shadow_of(remaining: dict, removed: dict, samples: Samples):
     return search_of(remaining, removed, samples).shadow
 
 
-def shadow_scene(light: np.ndarray, darken: float = 0.5):
+def shadow_scene(light: np.ndarray, darken: float = 0.2):
     """A textured floor (z = 0) of Gaussians with a box standing on it (|x|, |y| < 0.15, z < 0.6), and the
-    floor Gaussians in the box's shadow under `light` darkened by `darken`."""
+    floor Gaussians in the box's shadow under `light` darkened by `darken`: the light they get, so in linear
+    values (their colours are sRGB-encoded, as a render's are; 0.2 linear is about 0.5 in sRGB)."""
     xs = np.arange(-1.5, 1.5, SPACING)
     floor = np.stack(np.meshgrid(xs, xs, indexing="ij"), -1).reshape(-1, 2)
     floor = np.concatenate([floor, np.zeros((len(floor), 1))], 1)
@@ -54,7 +56,7 @@ def shadow_scene(light: np.ndarray, darken: float = 0.5):
     ray = floor[:, None, :] + t[None, :, None] * light
     in_box = (np.abs(ray[..., 0]) < 0.15) & (np.abs(ray[..., 1]) < 0.15) & (ray[..., 2] < 0.6)
     shadowed = in_box.any(1) & ~((np.abs(floor[:, 0]) < 0.15) & (np.abs(floor[:, 1]) < 0.15))
-    seen = np.where(shadowed[:, None], lit * darken, lit)
+    seen = np.where(shadowed[:, None], linear_to_srgb(srgb_to_linear(lit) * darken), lit)
     bx = np.arange(-0.14, 0.15, SPACING)
     box = np.stack(np.meshgrid(bx, bx, np.arange(0.02, 0.6, SPACING), indexing="ij"), -1).reshape(-1, 3)
     return floor, lit, seen, shadowed, box
@@ -77,7 +79,7 @@ def test_a_cast_shadow_is_found_from_the_views_and_relit_to_the_surface_around_i
     iou = (found & truth).sum() / (found | truth).sum()
     assert iou > 0.8, shadow.report()
     assert shadow.elevation == pytest.approx(40, abs=6)
-    np.testing.assert_allclose(shadow.gain, 2.0, rtol=0.15)
+    np.testing.assert_allclose(shadow.gain, 1 / 0.2, rtol=0.15)  # of light: 1 / darken
     after = colors_of(relight(remaining, shadow))
     core = truth & shadow.shadowed
     assert np.abs(after[core] - lit[core]).mean() < 0.1 * np.abs(seen[core] - lit[core]).mean() + 0.02
@@ -139,7 +141,8 @@ def test_no_shadow_is_claimed_where_the_surface_around_the_object_is_evenly_lit(
 def overhang_scene(darken: float):
     """A floor (z = 0) of Gaussians striped finer than the shading window, a ball of radius 0.4 resting on it at
     the origin, and the floor under and beside the ball darkened by `darken` (to r = 0.4, fading out by 0.6):
-    the sky the ball hid. Returns the floor, its lit and its seen colours, and the ball's points."""
+    the sky the ball hid, in linear values. Returns the floor, its lit and its seen colours (sRGB-encoded), and
+    the ball's points."""
     xs = np.arange(-1.5, 1.5, SPACING / 2)
     floor = np.stack(np.meshgrid(xs, xs, indexing="ij"), -1).reshape(-1, 2)
     floor = np.concatenate([floor, np.zeros((len(floor), 1))], 1)
@@ -149,14 +152,14 @@ def overhang_scene(darken: float):
     rng = np.random.default_rng(0)
     ball = rng.normal(size=(3000, 3))
     ball = 0.4 * ball / np.linalg.norm(ball, axis=1, keepdims=True) + [0.0, 0.0, 0.4]
-    return floor, lit, lit * shade[:, None], ball
+    return floor, lit, linear_to_srgb(srgb_to_linear(lit) * shade[:, None]), ball
 
 
 def test_the_darkening_under_an_overhang_is_relit_to_the_floor_around_it_texture_kept():
     from engine.edit.contact_shade import find_contact_shade
     from engine.edit.effects import brighten
 
-    floor, lit, seen, ball = overhang_scene(darken=0.5)
+    floor, lit, seen, ball = overhang_scene(darken=0.2)
     up = np.array([0.0, 0.0, 1.0])
     core = object_core(gaussians(ball, np.full((len(ball), 3), 0.9)), up)
     remaining = gaussians(floor, seen)
@@ -223,7 +226,7 @@ def test_other_objects_bases_keep_their_own_colours_in_the_contact_shade_and_the
     repainted as the removed object's effect, while the support around them is."""
     from engine.edit.contact_shade import find_contact_shade
 
-    floor, lit, seen, ball = overhang_scene(darken=0.5)
+    floor, lit, seen, ball = overhang_scene(darken=0.2)
     r = np.linalg.norm(floor[:, :2], axis=1)
     base = (np.abs(floor[:, 0] - 0.5) < 0.05) & (np.abs(floor[:, 1]) < 0.05)  # in the zone, 0.45-0.55 out
     seen = np.where(base[:, None], 0.1, seen)
@@ -437,7 +440,8 @@ def test_a_tiny_statue_run_finds_its_shadow_and_its_holes(statue_scene, tmp_path
 def test_residual_gain_is_what_the_relit_shadow_still_lacks():
     """Measured again after relighting, on the shadow's own dark samples: brightened by 1.2 for a gain of 1.5,
     they ask for 1.25 more; brightened all the way (or past it) they ask for nothing, never for darkening. The lit
-    samples beside the shadow do not count: they lie elsewhere, on other texture (run 16's overshoot)."""
+    samples beside the shadow do not count: they lie elsewhere, on other texture (run 16's overshoot). Gains are
+    of light, so the samples are brightened in linear values and shown in sRGB ones, as the renders are."""
     from engine.edit.effects import Samples, Shadow, residual_gain
 
     rng = np.random.default_rng(0)
@@ -448,7 +452,8 @@ def test_residual_gain_is_what_the_relit_shadow_still_lacks():
     before = Samples(points=np.zeros((100, 3)), colors=colors)
 
     def after(dark_by: float, lit_by: float) -> Samples:
-        return Samples(points=np.zeros((100, 3)), colors=colors * np.where(dark, dark_by, lit_by)[:, None])
+        light = srgb_to_linear(colors) * np.where(dark, dark_by, lit_by)[:, None]
+        return Samples(points=np.zeros((100, 3)), colors=linear_to_srgb(light))
     assert np.allclose(residual_gain(shadow, before, after(1.2, 1.0)), 1.25, atol=0.01)
     assert np.allclose(residual_gain(shadow, before, after(1.2, 3.0)), 1.25, atol=0.01)  # the lit ones: no say
     assert np.allclose(residual_gain(shadow, before, after(1.5, 1.0)), 1.0, atol=0.01)

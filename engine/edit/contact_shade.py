@@ -24,9 +24,10 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from engine.edit.effects import LUMA, EffectsConfig, Samples, darker_share, support_only
+from engine.edit.effects import LINEAR_EPS, LUMA, EffectsConfig, Samples, darker_share, support_only
 from engine.edit.plane_grid import Site
 from engine.io.gaussians import Gaussians
+from engine.io.image_io import srgb_to_linear
 from engine.io.masks import dilate
 
 MIN_SAMPLES = 8  # per window, for a shading estimate
@@ -52,8 +53,9 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
                        most: float = 3.0, others: np.ndarray | None = None) -> ContactShade | None:
     """The darkening under and beside the object (core centres `obj`) on `plane`, read off what the views
     `shown` of the support (the removed scene's renders, its object regions included, since what the views
-    saw under an overhang shows there); None where nothing is darker than around it. A cell's gain is at
-    most `most`. Other objects' Gaussians (`others`) are never brightened."""
+    saw under an overhang shows there); None where nothing is darker than around it. A cell's gain is of light
+    (linear values, as `brighten` applies it), at most `most` ** 2.4: `most` in sRGB values. Other objects'
+    Gaussians (`others`) are never brightened."""
     if plane is None or len(obj) < 20:
         return None
     site = Site.of(obj, plane)
@@ -66,15 +68,21 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     beyond = dilate(above, 2 * grow) & ~zone
     support = site.near_plane(points, band_below)
     ij, on_grid = grid.index(frame.flat(points[support]))
-    ij, log_c = ij[on_grid], np.log(colors[support][on_grid] + 1e-3)
-    local = _window_mean(grid.size, ij, log_c, np.ones(len(ij), bool), 2 * window + 1)
-    reference = _window_mean(grid.size, ij, log_c, beyond[ij[:, 0], ij[:, 1]], 2 * (2 * grow + window) + 1)
+    ij, shown_colors = ij[on_grid], colors[support][on_grid]
+    lit = beyond[ij[:, 0], ij[:, 1]]
+
+    def shading(log_c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # each cell's and its reference's
+        return (_window_mean(grid.size, ij, log_c, np.ones(len(ij), bool), 2 * window + 1),
+                _window_mean(grid.size, ij, log_c, lit, 2 * (2 * grow + window) + 1))
+
+    local, reference = shading(np.log(shown_colors + 1e-3))  # found in sRGB values, as min_contrast is
     darker = (reference - local) @ LUMA / LUMA.sum()
     weight = np.where(zone & np.isfinite(darker), darker_share(darker, min_contrast), 0.0)
     if not (weight > 0.5).any():
         return None
+    local, reference = shading(np.log(srgb_to_linear(shown_colors) + LINEAR_EPS))  # undone in linear ones
     gain = np.exp(weight[..., None] * np.nan_to_num(reference - local))
-    gain = np.clip(cv2.blur(gain.astype(np.float32), (3, 3)), 1.0, most)
+    gain = np.clip(cv2.blur(gain.astype(np.float32), (3, 3)), 1.0, most ** 2.4)
     weight = cv2.blur(weight.astype(np.float32), (3, 3))
     means = remaining["means"].numpy()
     shaded = support_only(site.near_plane(means, band_below, site.reach_up(remaining)), others)

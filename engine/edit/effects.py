@@ -39,10 +39,14 @@ from engine.edit.plane_grid import PlaneFrame, PlaneGrid, Site, surface_spacing
 from engine.formats.cameras import Camera, backproject
 from engine.formats.splat_ply import SH_C0
 from engine.io.gaussians import Gaussians
+from engine.io.image_io import linear_to_srgb, srgb_to_linear
 from engine.io.masks import dilate
 from engine.render.rasterize import CameraTensors, default_backend, rasterize
 
 LUMA = np.array([0.2126, 0.7152, 0.0722])
+LINEAR_EPS = 1e-4  # added to linear values before a ratio (1e-3 in sRGB values is about 8e-5 linear)
+MAX_GAIN = 8.0 ** 2.4  # the cast shadow's gain, at most, in linear values (8 in sRGB values)
+MAX_RESIDUAL = 4.0 ** 2.4  # the second relight's, at most (4 in sRGB values)
 
 
 @dataclass
@@ -195,9 +199,9 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     dark = inside & (np.median(log_y[~inside]) - log_y > config.min_contrast)
     lit_edge = ~inside & grid.cells(cv2.dilate(cast.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0,
                                      frame.cast(points, light))
-    colors = samples.colors[pick]
-    gain = np.clip((np.median(colors[lit_edge], 0) + 1e-3) / (np.median(colors[dark], 0) + 1e-3), 1.0, 8.0) \
-        if lit_edge.sum() >= 20 and dark.sum() >= 20 else np.ones(3)
+    colors = srgb_to_linear(samples.colors[pick])  # a shadow scales light, and light adds up in linear values
+    gain = np.clip((np.median(colors[lit_edge], 0) + LINEAR_EPS) / (np.median(colors[dark], 0) + LINEAR_EPS), 1.0,
+                   MAX_GAIN) if lit_edge.sum() >= 20 and dark.sum() >= 20 else np.ones(3)
     theirs, samples_theirs = their_shadows(site, light, means, others, points)
     evidence.update(left_in_their_shadows=int((shadowed & theirs).sum()))
     shadowed &= ~theirs
@@ -288,19 +292,26 @@ def residual_gain(shadow: Shadow, before: Samples, relit: Samples) -> np.ndarray
     if shadow.dark.sum() < 20:
         return np.ones(3)
     pick = shadow.pick[shadow.dark]
-    brightened = np.median((relit.colors[pick] + 1e-3) / (before.colors[pick] + 1e-3), 0)
-    return np.clip(shadow.gain / brightened, 1.0, 4.0)
+    brightened = np.median((srgb_to_linear(relit.colors[pick]) + LINEAR_EPS)
+                           / (srgb_to_linear(before.colors[pick]) + LINEAR_EPS), 0)
+    return np.clip(shadow.gain / brightened, 1.0, MAX_RESIDUAL)
 
 
 def brighten(gaussians: Gaussians, chosen: np.ndarray, gains: np.ndarray) -> Gaussians:
-    """The Gaussians with the `chosen` ones' (N,) bool radiance multiplied by their `gains` (S, 3): for colour
-    c = C0 sh0 + 0.5 (plus view-dependent terms), g c needs sh0' = (g (C0 sh0 + 0.5) - 0.5) / C0, shN' = g shN."""
+    """The Gaussians with the `chosen` ones' (N,) bool light multiplied by their `gains` (S, 3), in linear values:
+    the base colour c = C0 sh0 + 0.5 (sRGB-encoded, as the images it was trained on) becomes
+    c' = srgb(g linear(c)), and the view-dependent terms scale by c' / c. Why linear: a shadow scales the light
+    a surface gets, and in sRGB values that is a larger factor for dark texels than for bright ones, so one
+    factor for both overshoots the bright ones (+0.05 dB outside the hole on a GPU livingroom removal,
+    docs/BENCHMARKS.md "Runs 11 and 12"; the yellow-green sheen there is not this: it stays)."""
     out = dict(gaussians)
     idx = torch.from_numpy(np.flatnonzero(chosen))
-    gain = torch.as_tensor(gains, dtype=gaussians["sh0"].dtype)[:, None]
     sh0, sh_n = gaussians["sh0"].clone(), gaussians["shN"].clone()
-    sh0[idx] = (gain * (SH_C0 * sh0[idx] + 0.5) - 0.5) / SH_C0
-    sh_n[idx] = sh_n[idx] * gain
+    before = SH_C0 * sh0[idx, 0].numpy().astype(np.float64) + 0.5
+    after = linear_to_srgb(np.asarray(gains, np.float64) * srgb_to_linear(before))
+    ratio = np.where(before > 1e-3, after / np.maximum(before, 1e-3), 1.0)
+    sh0[idx, 0] = torch.as_tensor((after - 0.5) / SH_C0, dtype=sh0.dtype)
+    sh_n[idx] = sh_n[idx] * torch.as_tensor(ratio, dtype=sh_n.dtype)[:, None]
     out["sh0"], out["shN"] = sh0, sh_n
     return out
 

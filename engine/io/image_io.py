@@ -141,8 +141,19 @@ def write_depth(path: Path, depth: np.ndarray) -> None:
         raise InputError(f"writing {path} failed: {out.geterror()}")
 
 
+def linear_to_srgb(rgb: np.ndarray) -> np.ndarray:
+    """Scene-linear values (float, >= 0; above 1 the curve goes on) to sRGB-encoded ones: the sRGB transfer
+    function, Blender's 'Standard' view transform."""
+    rgb = np.maximum(rgb, 0.0)
+    return np.where(rgb <= 0.0031308, 12.92 * rgb, 1.055 * np.power(rgb, 1 / 2.4) - 0.055)
+
+
+def srgb_to_linear(srgb: np.ndarray) -> np.ndarray:
+    """sRGB-encoded values (float, >= 0) back to scene-linear ones: linear_to_srgb's inverse."""
+    srgb = np.maximum(srgb, 0.0)
+    return np.where(srgb <= 0.04045, srgb / 12.92, np.power((srgb + 0.055) / 1.055, 2.4))
+
+
 def linear_to_srgb8(rgb: np.ndarray) -> np.ndarray:
     """Scene-linear RGB (float) to 8-bit sRGB: Blender's 'Standard' view transform, no dither."""
-    rgb = np.clip(rgb, 0.0, 1.0)
-    srgb = np.where(rgb <= 0.0031308, 12.92 * rgb, 1.055 * np.power(rgb, 1 / 2.4) - 0.055)
-    return np.round(srgb * 255.0).astype(np.uint8)
+    return np.round(linear_to_srgb(np.clip(rgb, 0.0, 1.0)) * 255.0).astype(np.uint8)
