@@ -4,13 +4,13 @@
 # (default $OUT). One call on one GPU, carry .whl .bench/full_1; about 450 s. Prepared in session 23 for
 # linear_relight.patch (judged in run 11, applied in session 25); session 25 made the patch a parameter:
 #   PATCH=docs/benchmarks/effects/session25/trimmed_mean.patch bash docs/benchmarks/effects/session23/judge.sh
+[ -n "$PATCH" ] || { echo "judge.sh: set PATCH to the patch to judge (a path from the repository root)"; exit 2; }
 export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1
 bash docs/benchmarks/full/run4/device.sh recv > /dev/null 2>&1
 for k in $(seq 60); do grep -q built /tmp/b/gsplat.log && break; sleep 5; done
 S=/tmp/b/scenes/livingroom_s0; J=/tmp/j; mkdir -p $J
 target=$(python3 -c "import json,sys; print(next(o['name'] for o in json.load(open(sys.argv[1])) if o.get('target')))" $S/masks/objects.json)
 [ -f $J/run/point_cloud.ply ] || python3 -m engine train --scene $S --out $J/run --device cuda > $J/train.log 2>&1 || { tail -5 $J/train.log; exit 1; }
-[ -n "$PATCH" ] || { echo "judge.sh: set PATCH to the patch to judge (a path from the repository root)"; exit 2; }
 rm -rf $J/patched_code && cp -r . $J/patched_code && patch -s -p1 -d $J/patched_code < $PATCH || exit 1
 [ -d $J/today ] || python3 -m engine remove --run $J/run --object "$target" --out $J/today --device cuda > $J/today.log 2>&1
 [ -d $J/patched ] || (cd $J/patched_code && PYTHONPATH=/tmp/site:. python3 -m engine remove --run $J/run \
