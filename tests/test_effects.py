@@ -62,18 +62,24 @@ def shadow_scene(light: np.ndarray, darken: float = 0.2):
     return floor, lit, seen, shadowed, box
 
 
+def view_samples(floor: np.ndarray, seen: np.ndarray, hidden: np.ndarray | None = None) -> Samples:
+    """What the views show of shadow_scene's floor: four jittered samples a floor Gaussian (colours `seen`), none
+    under the box, where no view sees, nor under the floor Gaussians `hidden` (bool, by floor Gaussian)."""
+    jitter = np.random.default_rng(0).uniform(-SPACING / 2, SPACING / 2, (4 * len(floor), 3)) * [1, 1, 0]
+    points, colors = np.repeat(floor, 4, 0) + jitter, np.repeat(seen, 4, 0)
+    seen_by_views = ~((np.abs(points[:, 0]) < 0.15) & (np.abs(points[:, 1]) < 0.15))
+    if hidden is not None:
+        seen_by_views &= ~np.repeat(hidden, 4)
+    return Samples(points=points[seen_by_views], colors=colors[seen_by_views])
+
+
 def test_a_cast_shadow_is_found_from_the_views_and_relit_to_the_surface_around_it():
     el, az = math.radians(40), math.radians(30)
     light = np.array([math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)])
     floor, lit, seen, truth, box = shadow_scene(light)
     remaining = gaussians(floor, seen)
     removed = gaussians(box, np.full((len(box), 3), 0.9))
-    rng = np.random.default_rng(0)
-    jitter = rng.uniform(-SPACING / 2, SPACING / 2, (4 * len(floor), 3)) * [1, 1, 0]
-    points, colors = np.repeat(floor, 4, 0) + jitter, np.repeat(seen, 4, 0)
-    seen_by_views = ~((np.abs(points[:, 0]) < 0.15) & (np.abs(points[:, 1]) < 0.15))  # no view sees under the box
-    samples = Samples(points=points[seen_by_views], colors=colors[seen_by_views])
-    shadow = shadow_of(remaining, removed, samples)
+    shadow = shadow_of(remaining, removed, view_samples(floor, seen))
     assert shadow is not None
     found = shadow.shadowed & (np.abs(floor[:, 0]) < 1.4) & (np.abs(floor[:, 1]) < 1.4)
     iou = (found & truth).sum() / (found | truth).sum()
@@ -104,11 +110,7 @@ def test_the_shadow_another_object_casts_inside_the_objects_is_left_dark():
     assert both.sum() > 20  # the post's shadow reaches into the box's
     remaining = gaussians(np.concatenate([floor, post]), np.concatenate([seen, np.full((len(post), 3), 0.3)]))
     others = np.concatenate([np.zeros(len(floor), bool), np.ones(len(post), bool)])
-    rng = np.random.default_rng(0)
-    jitter = rng.uniform(-SPACING / 2, SPACING / 2, (4 * len(floor), 3)) * [1, 1, 0]
-    points, colors = np.repeat(floor, 4, 0) + jitter, np.repeat(seen, 4, 0)
-    seen_by_views = ~((np.abs(points[:, 0]) < 0.15) & (np.abs(points[:, 1]) < 0.15)) & ~np.repeat(under_post, 4)
-    samples = Samples(points=points[seen_by_views], colors=colors[seen_by_views])
+    samples = view_samples(floor, seen, under_post)
     up = np.array([0.0, 0.0, 1.0])
     core = object_core(gaussians(box, np.full((len(box), 3), 0.9)), up)
     plane = object_support(remaining["means"].numpy(), core, up)

@@ -11,9 +11,8 @@ import sys
 import numpy as np
 
 sys.path.insert(0, "tests")
-from test_effects import SPACING, gaussians, shadow_of, shadow_scene  # noqa: E402
+from test_effects import gaussians, shadow_of, shadow_scene, view_samples  # noqa: E402
 
-from engine.edit.effects import Samples  # noqa: E402
 from engine.io.image_io import srgb_to_linear  # noqa: E402
 
 
@@ -27,10 +26,7 @@ for azimuth in (30, 75, 120):
     el, az = math.radians(40), math.radians(azimuth)
     light = np.array([math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)])
     floor, lit, seen, truth, box = shadow_scene(light)
-    jitter = np.random.default_rng(0).uniform(-SPACING / 2, SPACING / 2, (4 * len(floor), 3)) * [1, 1, 0]
-    points, colors = np.repeat(floor, 4, 0) + jitter, np.repeat(seen, 4, 0)
-    keep = ~((np.abs(points[:, 0]) < 0.15) & (np.abs(points[:, 1]) < 0.15))
-    samples = Samples(points=points[keep], colors=colors[keep])
+    samples = view_samples(floor, seen)
     shadow = shadow_of(gaussians(floor, seen), gaussians(box, np.full((len(box), 3), 0.9)), samples)
     c = srgb_to_linear(samples.colors[shadow.pick])
     lit_c, dark_c = c[shadow.lit], c[shadow.dark]
