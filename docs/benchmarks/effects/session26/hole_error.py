@@ -1,0 +1,65 @@
+"""Where the error inside the true hole lies, per test view: m-PSNR of each set of renders against gt/, the part
+of it that is colour bias (the render's mean over the hole against gt/'s) and what it would be with that bias
+removed, beside two oracles that bound what a fill can reach without knowing the texture: gt/'s own mean over
+the hole (a flat fill of the right colour) and gt/ blurred (the texture's coarse shape only). With --picture, the
+holes' crops side by side (gt/, then each set), magnified.
+
+    PYTHONPATH=. python docs/benchmarks/effects/session26/hole_error.py SCENE NAME=DIR... [--picture OUT.png]
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from engine.io.image_io import read_png
+from engine.metrics.image_metrics import psnr_from_mse
+from engine.metrics.scores import hole_crop
+
+
+def mpsnr(out: np.ndarray, gt: np.ndarray, hole: np.ndarray) -> float:
+    return psnr_from_mse(float(((out[hole] - gt[hole]) ** 2).mean()))
+
+
+def row(name: str, out: np.ndarray, gt: np.ndarray, hole: np.ndarray) -> str:
+    bias = out[hole].mean(0) - gt[hole].mean(0)
+    return (f"{name}={mpsnr(out, gt, hole):6.2f} (bias {np.round(bias * 255).astype(int)}, "
+            f"unbiased {mpsnr(out - bias, gt, hole):6.2f})")
+
+
+def main(args: list[str]) -> None:
+    picture = args[args.index("--picture") + 1] if "--picture" in args else None
+    args = [a for a in args if a not in ("--picture", picture)]
+    scene, sets = Path(args[0]), [a.split("=", 1) for a in args[1:]]
+    tiles, totals = [], {name: [] for name, _ in sets} | {"flat oracle": [], "blur oracle": []}
+    for n in json.loads((scene / "split.json").read_text())["test"]:
+        hole = read_png(scene / "holes" / n, "mask") > 0
+        if not hole.any():
+            continue
+        gt = read_png(scene / "gt" / n) / 255.0
+        flat = gt.copy()
+        flat[hole] = gt[hole].mean(0)
+        blur = cv2.GaussianBlur(gt, (0, 0), 4)
+        outs = {name: read_png(Path(d) / n) / 255.0 for name, d in sets}
+        line = [f"{n} {int(hole.sum()):6d} px"] + [row(k, o, gt, hole) for k, o in outs.items()]
+        line += [f"flat oracle={mpsnr(flat, gt, hole):6.2f}", f"blur oracle={mpsnr(blur, gt, hole):6.2f}"]
+        print("  ".join(line))
+        for k, o in (outs | {"flat oracle": flat, "blur oracle": blur}).items():
+            totals[k].append(mpsnr(o, gt, hole))
+        ys, xs = hole_crop(hole)
+        crops = [gt] + list(outs.values())
+        edge = cv2.dilate(hole.astype(np.uint8), np.ones((3, 3), np.uint8)) - hole.astype(np.uint8)
+        tile = [np.where(edge[..., None] > 0, [1.0, 0, 1.0], c)[ys, xs] for c in crops]
+        tiles.append(cv2.hconcat([cv2.resize(t.astype(np.float32), (192, 192), interpolation=cv2.INTER_NEAREST)
+                                  for t in tile]))
+    print("mean over views: " + ", ".join(f"{k} {np.mean(v):.2f}" for k, v in totals.items()))
+    if picture and tiles:
+        cv2.imwrite(picture, (cv2.vconcat(tiles)[..., ::-1] * 255).round().astype(np.uint8))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
