@@ -238,11 +238,12 @@ def test_the_crater_under_an_overhang_takes_the_colour_of_the_support_around_it_
 
 def test_the_crater_takes_the_mean_colour_of_a_support_of_uneven_stripes_not_its_majority_colour():
     floor, _, seen, ball, sunk = crater_scene()
-    light = (floor[:, 0] / 0.1) % 1 < 0.7  # 70% light stripes, 30% dark, as wood's can be
-    seen = np.where(sunk[:, None], seen, np.where(light[:, None], [0.8, 0.65, 0.45], [0.55, 0.3, 0.3]))
+    pale = (floor[:, 0] / 0.1) % 1 < 0.7  # 70% pale stripes, 30% dark, as wood's can be
+    seen = np.where(sunk[:, None], seen, np.where(pale[:, None], [0.8, 0.65, 0.45], [0.55, 0.3, 0.3]))
+    # about the ring underside.RING takes (1-1.5 footprint radii); any band this wide holds the stripes at 70/30
     ring = (np.linalg.norm(floor[:, :2], axis=1) > 0.4) & (np.linalg.norm(floor[:, :2], axis=1) < 0.6)
     found = crater_underside(floor, seen, ball, EffectsConfig())
-    # a flat fill scores best at the texture's mean; the median is the light stripes' colour (G +0.1 too bright)
+    # a flat fill scores best at the texture's mean; the median is the pale stripes' colour (G +0.1 too bright)
     assert found is not None and np.allclose(found.colour, seen[ring].mean(0), atol=0.02)
 
 
