@@ -12,6 +12,7 @@ import pytest
 import torch
 
 from engine.edit.effects import EffectsConfig, Samples, colors_of, find_shadow, relight
+from engine.edit.plane_grid import PlaneFrame
 from engine.edit.support_plane import object_core, object_support
 from engine.formats.cameras import Camera, backproject, pixel_grid
 from engine.formats.splat_ply import SH_C0
@@ -73,10 +74,15 @@ def view_samples(floor: np.ndarray, seen: np.ndarray, hidden: np.ndarray | None 
     return Samples(points=points[seen_by_views], colors=colors[seen_by_views])
 
 
+def sun(azimuth: float) -> np.ndarray:
+    """The light 40 degrees above shadow_scene's floor (z = 0) from `azimuth` degrees, as find_shadow's frame
+    builds its candidates."""
+    return PlaneFrame(n=np.array([0.0, 0.0, 1.0]), a=np.array([1.0, 0.0, 0.0]), b=np.array([0.0, 1.0, 0.0]),
+                      d=0.0).light(40.0, azimuth)
+
+
 def test_a_cast_shadow_is_found_from_the_views_and_relit_to_the_surface_around_it():
-    el, az = math.radians(40), math.radians(30)
-    light = np.array([math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)])
-    floor, lit, seen, truth, box = shadow_scene(light)
+    floor, lit, seen, truth, box = shadow_scene(sun(30))
     remaining = gaussians(floor, seen)
     removed = gaussians(box, np.full((len(box), 3), 0.9))
     shadow = shadow_of(remaining, removed, view_samples(floor, seen))
@@ -97,9 +103,7 @@ def test_the_shadows_gain_is_the_lights_in_every_channel_whatever_share_of_the_t
     """The lit edge and the shadow hold the checker's two colours in shares that change with the light's
     direction; per-channel medians jumped between the two colours there (gains [2.18 3.55 3.36] at 75 degrees
     for the true 5: the relit shadow came out with a colour cast)."""
-    el, az = math.radians(40), math.radians(azimuth)
-    light = np.array([math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)])
-    floor, lit, seen, truth, box = shadow_scene(light)
+    floor, lit, seen, truth, box = shadow_scene(sun(azimuth))
     shadow = shadow_of(gaussians(floor, seen), gaussians(box, np.full((len(box), 3), 0.9)), view_samples(floor, seen))
     assert shadow is not None
     np.testing.assert_allclose(shadow.gain, 1 / 0.2, rtol=0.1)
@@ -109,10 +113,9 @@ def test_the_shadows_gain_is_the_lights_in_every_channel_whatever_share_of_the_t
 def test_the_shadow_another_object_casts_inside_the_objects_is_left_dark():
     """A post standing in the box's shadow: without the box its own shadow is still there (gt/ has it), so the
     support in it is left as it was while the rest of the box's shadow is relit."""
-    el, az = math.radians(40), math.radians(30)
-    light = np.array([math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)])
+    light = sun(30)
     floor, lit, seen, truth, box = shadow_scene(light)
-    centre = -0.45 * np.array([math.cos(az), math.sin(az)])
+    centre = -0.45 * light[:2] / np.linalg.norm(light[:2])  # 0.45 from the box, away from the light
     px = np.arange(-0.04, 0.05, SPACING / 2)
     post = np.stack(np.meshgrid(px, px, np.arange(0.02, 0.3, SPACING / 2), indexing="ij"), -1).reshape(-1, 3)
     post[:, :2] += centre
