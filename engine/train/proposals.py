@@ -6,8 +6,11 @@ Objects are what rests on a support surface there: the dense horizontal planes (
 found from the Gaussians' heights and refined by least squares; the solid Gaussians off those planes, above
 the lowest one and within the orbit, are split into objects by 3D connectivity on a voxel grid (voxel
 `voxel` x R, or their median spacing where the reconstruction is sparser); pieces as wide as the orbit
-(walls, the table's rim) stay background. Faint Gaussians (floaters, soft edges) join the object of the
-nearest solid one within two voxels. Every length is a fraction of R, so the same defaults hold for a
+(walls, the table's rim) stay background. A piece is that wide also where a sparse or short reconstruction
+leaves a table top as a noisy slab rather than a plane, whose Gaussians off the plane's band link every object
+on it: a wide piece is split again `peel` times, each time without its Gaussians within one more `plane_tol`
+of a plane. Faint Gaussians (floaters, soft edges) and those peeled off join the object of the nearest solid
+one within two voxels. Every length is a fraction of R, so the same defaults hold for a
 generated scene in metres and an SfM frame of arbitrary scale.
 """
 
@@ -36,6 +39,7 @@ class ProposalConfig:
     stack_gap: float = 2.0  # a piece resting this many voxels above another's footprint is part of it
     max_width: float = 0.8  # a piece wider than this x R is scenery, not an object
     orbit: float = 1.0  # objects lie within this x R of the look-at point, horizontally
+    peel: int = 2  # a piece wider than max_width is split again this often, the planes' band wider each time
 
 
 @dataclass
@@ -140,32 +144,68 @@ def propose(means: np.ndarray, opacity: np.ndarray, cameras: list[Camera], confi
     solid = near & (opacity >= config.solid)
     tol = config.plane_tol * r
     planes = support_planes(means[solid], frame.up, tol, config.plane_share, config.plane_radius * r)
+    heights = _plane_heights(means, planes)
+    candidate = near & (np.abs(heights) >= tol).all(1)
     if planes:
-        lowest = min(-d for _, d in planes)
-        on_plane = np.any([np.abs(means @ n + d) < tol for n, d in planes], axis=0)
-        candidate = near & ~on_plane & (means @ frame.up > lowest + tol)
-    else:
-        candidate = near
+        candidate &= means @ frame.up > min(-d for _, d in planes) + tol
     ids = np.zeros(len(means), np.int64)
     seeds = np.flatnonzero(candidate & solid)
     if len(seeds) == 0:
         return ids, {"planes": len(planes), "proposals": 0, "radius": r}
     size = max(config.voxel * r, spacing(means[seeds]))  # a sparse reconstruction needs coarser voxels
-    voxel, label = voxel_components(means[seeds], size)
-    gap = max(config.stack_gap * size, 2.5 * tol)  # what a plane's band may have cut out of an object
-    label = merge_stacked(means[seeds], voxel, label, frame.up, gap)
-    width = _component_widths(means[seeds], label[voxel], frame.up)
-    keep = width <= config.max_width * r
-    part = np.where(keep[label], label + 1, 0)  # per voxel, its component + 1, or 0
-    ids[seeds] = part[voxel]
-    faint = np.flatnonzero(candidate & ~solid)  # joins the object of the nearest solid Gaussian, if near
-    if len(faint):
-        distance, nearest = knn(torch.as_tensor(means[faint]), torch.as_tensor(means[seeds]), 1)
-        close = (distance[:, 0] <= 2 * size).numpy()
-        ids[faint[close]] = ids[seeds][nearest[close, 0].numpy()]
-    heights = sorted(round(float(-d - frame.center @ n) / r, 3) for n, d in planes)
-    return ids, {"planes": len(planes), "plane_heights": heights, "radius": round(r, 4), "voxel": round(size, 5),
+    bands = [tol * (1 + k) for k in range(config.peel + 1)] if planes else [tol]
+    ids[seeds], peeled = split_pieces(means[seeds], heights[seeds], bands, size, config.stack_gap * size,
+                                      frame.up, config.max_width * r)
+    anchors = seeds[~peeled]
+    joining = np.concatenate([np.flatnonzero(candidate & ~solid), seeds[peeled]])
+    if len(joining) and len(anchors):  # each joins the object of the nearest anchor, if near
+        near_anchor, nearest = knn(torch.as_tensor(means[joining]), torch.as_tensor(means[anchors]), 1)
+        close = (near_anchor[:, 0] <= 2 * size).numpy()
+        ids[joining[close]] = ids[anchors][nearest[close, 0].numpy()]
+    levels = sorted(round(float(-d - frame.center @ n) / r, 3) for n, d in planes)
+    return ids, {"planes": len(planes), "plane_heights": levels, "radius": round(r, 4), "voxel": round(size, 5),
                  "proposals": int(len(np.unique(ids)) - (ids == 0).any())}
+
+
+def split_pieces(points: np.ndarray, heights: np.ndarray, bands: list[float], size: float, stack_gap: float,
+                 up: np.ndarray, max_width: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per point, its piece (0 = background; ids in no order) and whether a wider band peeled it off.
+    Pieces are connected on a voxel grid of `size`, stacked ones joined, and kept when no wider than
+    `max_width`. Wider ones are split again without their points nearer a plane than the next of `bands`
+    (`heights`: each point's signed height above each plane), and what that splits off is kept only where it
+    rests on a plane (its lowest point at most the band and two voxels above one), so a table top's underside
+    and rim stay scenery; what is left after the last band is background."""
+    distance = np.abs(heights).min(1) if heights.shape[1] else np.full(len(points), np.inf)
+    ids = np.zeros(len(points), np.int64)
+    peeled = np.zeros(len(points), bool)
+    todo = np.arange(len(points))
+    for step, band in enumerate(bands):
+        if step:
+            peeled[todo[distance[todo] < band]] = True
+            todo = todo[distance[todo] >= band]
+        if not len(todo):
+            break
+        voxel, label = voxel_components(points[todo], size)
+        gap = max(stack_gap, 2.5 * band)  # what a plane's band may have cut out of an object
+        part = merge_stacked(points[todo], voxel, label, up, gap)[voxel]
+        keep = _component_widths(points[todo], part, up) <= max_width
+        if step:
+            keep &= _resting(heights[todo], part, band + 2 * size)
+        ids[todo[keep[part]]] = ids.max() + 1 + part[keep[part]]
+        todo = todo[~keep[part]]
+    return ids, peeled
+
+
+def _resting(heights: np.ndarray, part: np.ndarray, reach: float) -> np.ndarray:
+    """Per component label (indexed by label), whether its lowest point lies 0 to `reach` above some plane."""
+    low = np.full((part.max() + 1, heights.shape[1]), np.inf)
+    np.minimum.at(low, part, heights)
+    return ((low >= 0) & (low <= reach)).any(1)
+
+
+def _plane_heights(points: np.ndarray, planes: list[tuple[np.ndarray, float]]) -> np.ndarray:
+    """(N, P) each point's signed height above each plane (normals point up)."""
+    return np.stack([points @ n + d for n, d in planes], axis=1) if planes else np.zeros((len(points), 0))
 
 
 def spacing(points: np.ndarray, sample: int = 2000) -> float:
