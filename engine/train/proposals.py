@@ -9,9 +9,9 @@ the lowest one and within the orbit, are split into objects by 3D connectivity o
 (walls, the table's rim) stay background. A piece is that wide also where a sparse or short reconstruction
 leaves a table top as a noisy slab rather than a plane, whose Gaussians off the plane's band link every object
 on it: a wide piece is split again `peel` times, each time without its Gaussians within one more `plane_tol`
-of a plane. Faint Gaussians (floaters, soft edges) and those peeled off join the object of the nearest solid
-one within two voxels. Every length is a fraction of R, so the same defaults hold for a
-generated scene in metres and an SfM frame of arbitrary scale.
+of a plane, and what comes off is kept where it rests on a plane. Faint Gaussians (floaters, soft edges) and
+those peeled off join the object of the nearest solid one left within two voxels. Every length is a fraction
+of R, so the same defaults hold for a generated scene in metres and an SfM frame of arbitrary scale.
 """
 
 from __future__ import annotations
