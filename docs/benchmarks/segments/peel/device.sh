@@ -32,13 +32,6 @@ bench)
     (cd $B/before && python3 scripts/bench_segments.py --run $B/runs/$s --results $B/out/before 2>&1 | tail -n 1)
   done
   for s in livingroom statue tabletop; do cp $B/runs/$s/metrics.json $B/out/$s-metrics.json; done
-  python3 - <<'EOF'
-import json, glob
-for code in ("before", "today"):
-    for f in sorted(glob.glob(f"/tmp/seg/out/{code}/*.json")):
-        r = json.load(open(f)); a, m = r["auto"], r["masks"]
-        print(code, r["scene"], "proposals", a["proposals"], "target", a["target_iou"], "merges", a["merges"],
-              a["objects"], "| masks", m["association"], m["target_iou"])
-EOF
+  python3 docs/benchmarks/segments/peel/summary.py $B/out/before $B/out/today
   tar czf $OUT/peel.tgz -C $B/out .;;
 esac
