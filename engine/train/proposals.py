@@ -167,14 +167,15 @@ def propose(means: np.ndarray, opacity: np.ndarray, cameras: list[Camera], confi
                  "proposals": int(len(np.unique(ids)) - (ids == 0).any())}
 
 
-def split_pieces(points: np.ndarray, heights: np.ndarray, bands: list[float], size: float, stack_gap: float,
+def split_pieces(points: np.ndarray, heights: np.ndarray, bands: list[float], size: float, min_gap: float,
                  up: np.ndarray, max_width: float) -> tuple[np.ndarray, np.ndarray]:
     """Per point, its piece (0 = background; ids in no order) and whether a wider band peeled it off.
-    Pieces are connected on a voxel grid of `size`, stacked ones joined, and kept when no wider than
-    `max_width`. Wider ones are split again without their points nearer a plane than the next of `bands`
-    (`heights`: each point's signed height above each plane), and what that splits off is kept only where it
-    rests on a plane (its lowest point at most the band and two voxels above one), so a table top's underside
-    and rim stay scenery; what is left after the last band is background."""
+    Pieces are connected on a voxel grid of `size`, stacked ones joined (a length `min_gap` or 2.5 bands
+    apart, whichever is more), and kept when no wider than `max_width`. Wider ones are split again without
+    their points nearer a plane than the next of `bands` (`heights`: each point's signed height above each
+    plane), and what that splits off is kept only where it rests on a plane (its lowest point at most the band
+    and two voxels above one), so a table top's underside and rim stay scenery; what is left after the last
+    band is background."""
     distance = np.abs(heights).min(1) if heights.shape[1] else np.full(len(points), np.inf)
     ids = np.zeros(len(points), np.int64)
     peeled = np.zeros(len(points), bool)
@@ -186,7 +187,7 @@ def split_pieces(points: np.ndarray, heights: np.ndarray, bands: list[float], si
         if not len(todo):
             break
         voxel, label = voxel_components(points[todo], size)
-        gap = max(stack_gap, 2.5 * band)  # what a plane's band may have cut out of an object
+        gap = max(min_gap, 2.5 * band)  # what a plane's band may have cut out of an object
         part = merge_stacked(points[todo], voxel, label, up, gap)[voxel]
         keep = _component_widths(points[todo], part, up) <= max_width
         if step:
