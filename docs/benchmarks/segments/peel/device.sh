@@ -3,7 +3,8 @@
 # too little for the ~220 s of training and the bench. A later session runs both calls as written.
 #
 # Session 27: `segment --auto` with wide pieces peeled (split_pieces, fa6729a) against the code before
-# (before.patch undoes it), on the segments table's protocol: the three generated scenes at 320x240 with 48
+# (before.patch undoes it on the current tree: `git diff HEAD fa6729a~1 -- engine/train/proposals.py`, made again
+# whenever proposals.py changes), on the segments table's protocol: the three generated scenes at 320x240 with 48
 # views (make_scene.py --views 48 --res 320 --samples 16 --seed 0 --gt test; carried without depth/, which
 # neither training nor scoring reads), each trained 30k steps at a 100k budget, side by side on one GPU.
 #   call 1, carry .whl .bench/segc:  bash docs/benchmarks/segments/peel/device.sh start
