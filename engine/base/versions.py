@@ -1,12 +1,34 @@
-"""What a result was made with: the engine's, Python's, torch's and gsplat's versions and the GPU, for the records
-every training run and benchmark cell keep (a number without its setting cannot be compared)."""
+"""What a result was made with: the code's commit, the engine's, Python's, torch's and gsplat's versions and the GPU,
+for the records every training run and benchmark cell keep (a number without its setting cannot be compared)."""
 
 from __future__ import annotations
 
+import functools
 import importlib.metadata
+import os
 import platform
+import subprocess
+from pathlib import Path
 
 import torch
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+@functools.cache
+def code_commit() -> str | None:
+    """The checkout's commit (short hash, "+dirty" with uncommitted changes to tracked files). A copy of the tree
+    without .git (a GPU machine's) names it in SPLATFILL_COMMIT, which benchmarks/gpu.sh passes on."""
+    if os.environ.get("SPLATFILL_COMMIT"):
+        return os.environ["SPLATFILL_COMMIT"]
+    try:
+        head = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"], capture_output=True,
+                              text=True, timeout=10, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(REPO), "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, timeout=10, check=True).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return head + ("+dirty" if dirty else "")
 
 
 def versions() -> dict[str, str | None]:
@@ -16,8 +38,8 @@ def versions() -> dict[str, str | None]:
         gsplat = importlib.metadata.version("gsplat")
     except importlib.metadata.PackageNotFoundError:
         gsplat = None
-    return {"engine": __version__, "python": platform.python_version(), "torch": torch.__version__,
-            "cuda": torch.version.cuda, "gsplat": gsplat}
+    return {"engine": __version__, "commit": code_commit(), "python": platform.python_version(),
+            "torch": torch.__version__, "cuda": torch.version.cuda, "gsplat": gsplat}
 
 
 def gpu_name(device: torch.device) -> str | None:

@@ -6,7 +6,7 @@ torch-fidelity and torchmetrics all accept), from the `weights` argument or FID_
 follow torchvision's Inception3 so the file's keys load as they are; the blocks are pytorch-fid's FID
 variants (average pools that do not count padding, a max pool in the last block). Images are resized
 to 299x299 bilinearly and scaled to [-1, 1]; the output is the 2048-d pool3 feature. Written here because
-torchvision does not load beside the CPU torch build; scripts/check_metrics.py compares it with
+torchvision does not load beside the CPU torch build; benchmarks/metrics_agreement.py compares it with
 pytorch-fid on the GPU machine.
 """
 

@@ -7,7 +7,7 @@ ScalingLayer does. The map (`lpips_map`) upsamples each layer's weighted differe
 size before summing, as lpips(spatial=True) does; m-LPIPS is its mean over the hole.
 
 Written here rather than imported because `lpips` imports torchvision, which the CPU torch build cannot
-load; scripts/check_metrics.py compares the two on the GPU machine. Weights, nothing downloaded:
+load; benchmarks/metrics_agreement.py compares the two on the GPU machine. Weights, nothing downloaded:
 - backbone: torchvision's `alexnet-owt-7be5be79.pth`, from the `backbone` argument, LPIPS_BACKBONE, or
   torch's hub cache ($TORCH_HOME/hub/checkpoints/), where torchvision keeps it for users who have it;
 - linear heads: `alex.pth` (6 kB) from the installed lpips package (found without importing it), or

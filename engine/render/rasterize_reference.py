@@ -5,7 +5,7 @@ gsplat's frustum clamp of the Jacobian, a 0.3 px blur added to the 2D covariance
 sqrt(2 ln(255 opacity))) sigma per axis, 16 px tiles, front-to-back compositing with alpha capped at 0.999,
 alphas under 1/255 skipped and a pixel finished once transmittance would fall to 1e-4. Pixel centres are at
 +0.5. Dense per tile, so it is only meant for small images (tests); agreement with gsplat is checked on
-the GPU by scripts/check_rasterizer.py.
+the GPU by benchmarks/rasterizer_agreement.py.
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ band at a time made autograd materialise a full-size gradient per coefficient (1
 Gaussians), and `einsum` turned the product into 286k tiny batched matrix products (1 ms a step, forward
 and backward, on the H200).
 The CPU reference rasterizer's colours; on CUDA gsplat's one-kernel evaluation of the same constants is used
-(engine.render.rasterize.sh_colors), and scripts/check_rasterizer.py compares the two, colours and gradients.
+(engine.render.rasterize.sh_colors), and benchmarks/rasterizer_agreement.py compares the two, colours and gradients.
 """
 
 from __future__ import annotations

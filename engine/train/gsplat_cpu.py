@@ -2,7 +2,7 @@
 
 gsplat 1.5.3's strategy code is pure torch except `compute_relocation` (the MCMC paper's Eq. 9) and
 `quat_scale_to_covar_preci` (used for noise injection). On CUDA nothing is replaced; on the CPU these two
-names inside gsplat.strategy.ops are pointed at the functions below. scripts/check_rasterizer.py compares
+names inside gsplat.strategy.ops are pointed at the functions below. benchmarks/rasterizer_agreement.py compares
 them with the CUDA kernels on the GPU.
 """
 

@@ -1,7 +1,7 @@
 """Benchmark removal and hole masks on a generated scene: which threshold, hull or not, which tolerance.
 
-    python scripts/bench_removal.py --scene DIR [--run RUN | --budget 100000] --results DIR
-    python scripts/bench_removal.py --report        # docs/benchmarks/removal/*.json -> BENCHMARKS.md
+    python benchmarks/removal_sweep.py --scene DIR [--run RUN | --budget 100000] --results DIR
+    python benchmarks/removal_sweep.py --report [--results DIR]        # DIR/*.json -> DIR/tables.md
 
 For each identity threshold, with and without the visual-hull clean-up: Gaussians removed, and PSNR of the
 removed scene against gt/ outside the true hole on test views (what removal leaves behind: remnants of the
@@ -20,9 +20,10 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
-from scripts.bench_records import load_records, provenance, save_record, write_section  # noqa: E402
+from benchmarks.records import RESULTS as ALL_RESULTS  # noqa: E402
+from benchmarks.records import load_records, provenance, save_record, write_tables  # noqa: E402
 
-RESULTS = REPO / "docs" / "benchmarks" / "removal"
+RESULTS = ALL_RESULTS / "removal"
 
 
 def measure(scene: Path, run: Path, thresholds: list[float], tolerances: list[float], margins: list[float],
@@ -77,9 +78,9 @@ def run_bench(args: argparse.Namespace) -> None:
     save_record(Path(args.results), scene.name, record)
 
 
-def report() -> None:
+def report(results: Path) -> None:
     lines = []
-    for r in load_records(RESULTS):
+    for r in load_records(results):
         lines += [f"**{r['scene']}** ({r['device']}, trained with budget {r['budget']}, test PSNR {r['train_psnr']})",
                   "", "| threshold | hull | Gaussians removed | PSNR outside true hole | PSNR revealed | seconds |",
                   "|---|---|---|---|---|---|"]
@@ -90,7 +91,7 @@ def report() -> None:
         lines += [f"| {h['rel_tol']} | {_plane(h)} | {h.get('occluder_margin', 0)} | {h['mean_iou']} | "
                   f"{h['hole_to_region']} | {h['seconds']} |" for h in r["holes"]]
         lines += ["", f"Command: `{r['command']}`", ""]
-    write_section("bench_removal", "Removal and hole masks", lines)
+    write_tables(results, "Removal thresholds and hole-mask settings", lines)
 
 
 def _plane(hole: dict) -> str:
@@ -113,7 +114,7 @@ def main() -> int:
     parser.add_argument("--report", action="store_true")
     args = parser.parse_args()
     if args.report:
-        report()
+        report(Path(args.results))
     else:
         run_bench(args)
     return 0

@@ -1,6 +1,6 @@
 """How long importing a 3DGS .ply into Blender as proxies takes (addon.import_scene.import_splats).
 
-    .venv-blender/bin/python scripts/bench_import.py [--gaussians 1000000] [--groups 8]
+    .venv-blender/bin/python benchmarks/import_speed.py [--gaussians 1000000] [--groups 8]
 
 Writes a .ply of that many Gaussians (degree-0 SH, identities one-hot over `groups` classes, with a matching
 classifier.npz) to a temporary folder, imports it into an empty scene, and prints the time of reading

@@ -1,11 +1,11 @@
-"""Pack generated scenes into chunks a device call can carry (issue 16, 640x480/100 views).
+"""Pack generated scenes into chunks a device call can carry.
 
-A 640x480/100-view scene is about 50 MB and a call carries at most 64 MiB with the tracked tree (28 MB), so
-each scene travels in parts over calls to one warm machine. Packing drops what the device stages never read
-(depth/, gt_depth/: only `engine preview` shows them) and stores images/ and gt/ as lossless WebP, checked
-pixel for pixel here; `unpack.py` on the device writes them back as PNG.
+A 640x480/100-view scene is about 50 MB and a call carries at most 64 MiB with the tracked tree, so each
+scene travels in parts over calls to one warm machine (benchmarks/gpu.sh receives them). Packing drops what the
+device stages never read (depth/, gt_depth/: only `engine preview` shows them) and stores images/ and gt/ as
+lossless WebP, checked pixel for pixel here; `unpack_scene.py` on the device writes them back as PNG.
 
-    python pack.py OUT_DIR CHUNK_MB SCENE...    ->  OUT_DIR/<scene>.tgz.<k>of<n>
+    python benchmarks/pack_scene.py OUT_DIR CHUNK_MB SCENE...    ->  OUT_DIR/<scene>.tgz.<k>of<n>
 """
 
 import io

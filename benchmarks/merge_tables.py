@@ -2,7 +2,7 @@
 tables.md with each column's mean over seeds, stability.md with the spread and the failure table, and the
 chart, all from the records alone (nothing is run).
 
-    PYTHONPATH=.:scripts python docs/benchmarks/full/merge.py OUT run1/results.json run2/results.json
+    PYTHONPATH=.:scripts python benchmarks/merge_tables.py OUT run1/results.json run2/results.json
     PYTHONPATH=. python -m engine chart --spec OUT/speed_accuracy.json --out OUT/speed_accuracy.png
 
 `PATH:SCENE` takes only that scene's cells from a file (the latest run of each family, from runs at other codes).

@@ -3,7 +3,7 @@ effect region of the test views (outside the holes) the removed/gt ratio of its 
 just past it, and its brighter and darker halves by gt/'s luminance, with the texture's contrast against gt/'s;
 a picture of the first test view with an effect: each removal, then gt/.
 
-    PYTHONPATH=. python docs/benchmarks/effects/session23/score.py SCENE REMOVED... [--picture OUT.png]
+    PYTHONPATH=. python benchmarks/removal_score.py SCENE REMOVED... [--picture OUT.png]
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ import cv2
 import numpy as np
 
 from engine.edit.effects import LUMA
+from engine.formats.layout import RemovedLayout, SceneLayout
 from engine.io.image_io import read_png
 from engine.metrics.image_metrics import psnr_from_mse
 
@@ -32,14 +33,14 @@ def parts(effect: np.ndarray, hole: np.ndarray) -> dict[str, np.ndarray]:
 
 
 def score(scene: Path, removed: Path, views: list[str]) -> None:
-    report = json.loads((removed / "removal.json").read_text())
+    report = json.loads((RemovedLayout(removed).report).read_text())
     print(f"{removed}: outside the true hole {report['psnr_outside_hole']:.3f} dB, revealed "
           f"{report['psnr_revealed']:.3f} dB, shadow {report['effects']['shadow']}")
     pooled: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {}
     for name in views:
-        effect = read_png(scene / "effects" / name, "mask") > 0
-        hole = read_png(scene / "holes" / name, "mask") > 0
-        gt, out = load(scene / "gt" / name), load(removed / "images" / name)
+        effect = read_png(SceneLayout(scene).effects / name, "mask") > 0
+        hole = read_png(SceneLayout(scene).holes / name, "mask") > 0
+        gt, out = load(SceneLayout(scene).gt / name), load(RemovedLayout(removed).images / name)
         for part, mask in parts(effect, hole).items():
             pooled.setdefault(part, []).append((out[mask], gt[mask]))
     for part, pairs in pooled.items():
@@ -57,12 +58,13 @@ def main(args: list[str]) -> None:
     picture = args[args.index("--picture") + 1] if "--picture" in args else None
     args = [a for a in args if a != "--picture" and a != picture]
     scene, removals = Path(args[0]), [Path(a) for a in args[1:]]
-    views = [n for n in json.loads((scene / "split.json").read_text())["test"]
-             if (scene / "effects" / n).is_file() and read_png(scene / "effects" / n, "mask").any()]
+    views = [n for n in json.loads((SceneLayout(scene).split_json).read_text())["test"]
+             if (SceneLayout(scene).effects / n).is_file() and read_png(SceneLayout(scene).effects / n, "mask").any()]
     for removed in removals:
         score(scene, removed, views)
     if picture and views:
-        row = [cv2.imread(str(r / "images" / views[0])) for r in removals] + [cv2.imread(str(scene / "gt" / views[0]))]
+        row = [cv2.imread(str(RemovedLayout(r).images / views[0])) for r in removals]
+        row.append(cv2.imread(str(SceneLayout(scene).gt / views[0])))
         cv2.imwrite(picture, cv2.hconcat(row))
 
 

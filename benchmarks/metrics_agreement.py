@@ -1,6 +1,6 @@
 """Check our LPIPS and FID against the `lpips` and `pytorch-fid` packages, given the same weights.
 
-    python scripts/check_metrics.py [--results DIR]     # where torchvision imports (the GPU machine)
+    python benchmarks/metrics_agreement.py [--results DIR]     # where torchvision imports (the GPU machine)
 
 No weights can be downloaded, so both sides get the same random weights: torchvision's alexnet(weights=None)
 saved under torchvision's file name, and our FID Inception's random initialisation (batch-norm statistics
@@ -8,7 +8,7 @@ measured on images, so that features do not vanish) saved as
 pt_inception-2015-12-05-6726825d.pth in a temporary TORCH_HOME, where pytorch-fid's loader finds it
 without downloading. Compared: LPIPS values and maps on smooth random image pairs; pool3 features; FID
 from pytorch-fid's calculate_frechet_distance (scipy's sqrtm) against ours (singular values), on more images
-than features so that scipy's sqrtm is well-posed. Writes docs/benchmarks/metrics_check.json.
+than features so that scipy's sqrtm is well-posed. Writes docs/results/metrics/metrics_agreement.json.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
-from scripts.bench_records import provenance  # noqa: E402
+from benchmarks.records import provenance  # noqa: E402
 
 
 def smooth_images(n: int, size: tuple[int, int], seed: int):
@@ -116,7 +116,7 @@ def scipy_frechet_distance(mu1, sigma1, mu2, sigma2) -> float:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--results", default=str(REPO / "docs" / "benchmarks"))
+    parser.add_argument("--results", default=str(REPO / "docs" / "results" / "metrics"))
     args = parser.parse_args()
     import torch
 
@@ -124,7 +124,7 @@ def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         os.environ["TORCH_HOME"] = tmp
         record = {**check_lpips(Path(tmp), device), **check_fid(Path(tmp), device), **provenance()}
-    out = Path(args.results) / "metrics_check.json"
+    out = Path(args.results) / "metrics_agreement.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(record, indent=1))
     print(json.dumps(record, indent=1))

@@ -1,7 +1,7 @@
 """Exemplar's patch search as a correlation of the window (engine.inpaint.inpainters.exemplar._SourceSearch)
 against the unrolled source matrix it replaced, on a scene's real object regions (beside_training.py's views).
 
-    PYTHONPATH=. python docs/benchmarks/inpaint/search_speed.py SCENE [VIEWS] [WORKERS,...] [--old=OLD.py]
+    PYTHONPATH=. python benchmarks/inpaint_speed.py SCENE [VIEWS] [WORKERS,...] [--old=OLD.py]
 
 OLD.py is the previous exemplar.py (`git show b0eaac9:engine/inpaint/inpainters/exemplar.py`, saved outside the
 tree): one view at a time through it, then the new search in processes, once for each count in WORKERS (1: one

@@ -1,8 +1,8 @@
 """Benchmark objects found without ground-truth masks (engine.train.segments) on generated scenes, whose
 exact instance masks are hidden from `segment` and used only to score it.
 
-    python scripts/bench_segments.py --run RUN [--run RUN ...] --results DIR
-    python scripts/bench_segments.py --report        # docs/benchmarks/segments/*.json -> BENCHMARKS.md
+    python benchmarks/segments.py --run RUN [--run RUN ...] --results DIR
+    python benchmarks/segments.py --report [--results DIR]        # DIR/*.json -> DIR/tables.md
 
 Per run: `segment --auto` (geometry only): per ground-truth object the best proposal's mask IoU on the test
 views, the target found (IoU >= 0.5) or not, proposals that merge two objects, seconds. Then `--from-masks`
@@ -22,9 +22,10 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
-from scripts.bench_records import load_records, provenance, save_record, write_section  # noqa: E402
+from benchmarks.records import RESULTS as ALL_RESULTS  # noqa: E402
+from benchmarks.records import load_records, provenance, save_record, write_tables  # noqa: E402
 
-RESULTS = REPO / "docs" / "benchmarks" / "segments"
+RESULTS = ALL_RESULTS / "segments"
 
 
 def _masks(segments: Path, names: list[str]):
@@ -87,19 +88,19 @@ def run_bench(args: argparse.Namespace) -> None:
         save_record(Path(args.results), f"{record['scene']}-solid{args.solid:g}", record)
 
 
-def report() -> None:
+def report(results: Path) -> None:
     lines = ["| scene | views, size | Gaussians | auto: proposals | target IoU (test views) | merges | other "
              "objects' best IoU | seconds | user masks: association | target IoU | seconds | device |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for r in load_records(RESULTS):
+    for r in load_records(results):
         a, m = r["auto"], r["masks"]
         others = ", ".join(f"{k} {v:.2f}" for k, v in a["objects"].items() if k != r["target"])
         lines.append(f"| {r['scene']} | {r['views']}, {r['size'][0]}x{r['size'][1]} | {r['gaussians']:,} | "
                      f"{a['proposals']} | {a['target_iou']:.2f} | {a['merges']} | {others} | {a['seconds']} | "
                      f"{m['association']:.3f} | {m['target_iou']:.2f} | {m['seconds']} | {r['device']} |")
-    commands = sorted({r["command"] for r in load_records(RESULTS)})
+    commands = sorted({r["command"] for r in load_records(results)})
     lines += ["", "Commands: " + "; ".join(f"`{c}`" for c in commands)]
-    write_section("bench_segments", "Objects without ground-truth masks", lines)
+    write_tables(results, "Objects without ground-truth masks", lines)
 
 
 def main() -> int:
@@ -110,7 +111,7 @@ def main() -> int:
     parser.add_argument("--report", action="store_true")
     args = parser.parse_args()
     if args.report:
-        report()
+        report(Path(args.results))
     else:
         run_bench(args)
     return 0

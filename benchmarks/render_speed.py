@@ -1,9 +1,9 @@
 """Forward+backward cost of one render at a given Gaussian count: one joint pass or RGB and identity apart.
 
-    python scripts/bench_render.py --scene DIR [--gaussians 300000] [--iters 50]
-    python scripts/bench_render.py --scene DIR --run RUN [--iters 100]
+    python benchmarks/render_speed.py --scene DIR [--gaussians 300000] [--iters 50]
+    python benchmarks/render_speed.py --scene DIR --run RUN [--iters 100]
 
-With --run, the trained Gaussians of RUN's newest checkpoint (scripts/profile_train.py --save) render a training
+With --run, the trained Gaussians of RUN's newest checkpoint (benchmarks/train_profile.py --save) render a training
 view's RGB (3 channels, the training step between identity steps) and RGB + 6 class logits (9 channels), forward
 and backward, at each of gsplat's tile sizes and with packed on and off: options that leave the image as it is
 and change only the kernels' work.

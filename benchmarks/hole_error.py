@@ -4,7 +4,7 @@ removed, beside two oracles that bound what a fill can reach without knowing the
 the hole (a flat fill of the right colour) and gt/ blurred (the texture's coarse shape only). With --picture, the
 holes' crops side by side (gt/, then each set), magnified.
 
-    PYTHONPATH=. python docs/benchmarks/effects/session26/hole_error.py SCENE NAME=DIR... [--picture OUT.png]
+    PYTHONPATH=. python benchmarks/hole_error.py SCENE NAME=DIR... [--picture OUT.png]
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from engine.formats.layout import SceneLayout
 from engine.io.image_io import read_png
 from engine.metrics.image_metrics import psnr_from_mse
 from engine.metrics.scores import hole_crop
@@ -36,11 +37,11 @@ def main(args: list[str]) -> None:
     args = [a for a in args if a not in ("--picture", picture)]
     scene, sets = Path(args[0]), [a.split("=", 1) for a in args[1:]]
     tiles, totals = [], {}  # name -> per view, what scored() gives
-    for n in json.loads((scene / "split.json").read_text())["test"]:
-        hole = read_png(scene / "holes" / n, "mask") > 0
+    for n in json.loads((SceneLayout(scene).split_json).read_text())["test"]:
+        hole = read_png(SceneLayout(scene).holes / n, "mask") > 0
         if not hole.any():
             continue
-        gt = read_png(scene / "gt" / n) / 255.0
+        gt = read_png(SceneLayout(scene).gt / n) / 255.0
         flat = gt.copy()
         flat[hole] = gt[hole].mean(0)
         outs = {name: read_png(Path(d) / n) / 255.0 for name, d in sets}

@@ -1,10 +1,10 @@
 """Benchmark Gaussian Grouping training: wall time, steps/s, peak GPU memory, Gaussians, PSNR/SSIM, mIoU.
 
-    python scripts/bench_train.py --scenes DIR... --budgets 0 300000 [--steps 30000] --results DIR [--runs DIR]
-    python scripts/bench_train.py --report                      # docs/benchmarks/train/*.json -> BENCHMARKS.md
+    python benchmarks/train_speed.py --scenes DIR... --budgets 0 300000 [--steps 30000] --results DIR [--runs DIR]
+    python benchmarks/train_speed.py --report [--results DIR]                      # DIR/*.json -> DIR/tables.md
 
-Each run writes one JSON (machine, command, settings, numbers) into --results; commit them under
-docs/benchmarks/train/ and regenerate the table with --report. Engine Python; absolute times only count
+Each run writes one JSON (machine, commit, command, settings, numbers) into --results (default
+docs/results/train/) and --report makes its tables.md. Engine Python; absolute times only count
 when measured on the GPU machine. Budget 0 means none (gsplat DefaultStrategy).
 """
 
@@ -18,9 +18,10 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
-from scripts.bench_records import load_records, provenance, save_record, write_section  # noqa: E402
+from benchmarks.records import RESULTS as ALL_RESULTS  # noqa: E402
+from benchmarks.records import load_records, provenance, save_record, write_tables  # noqa: E402
 
-RESULTS = REPO / "docs" / "benchmarks" / "train"
+RESULTS = ALL_RESULTS / "train"
 
 
 def warm_up() -> None:
@@ -63,8 +64,8 @@ def run_one(scene: Path, budget: int, steps: int, results: Path, runs: Path | No
     return record
 
 
-def report() -> None:
-    records = load_records(RESULTS)
+def report(results: Path) -> None:
+    records = load_records(results)
     lines = ["| scene | budget | steps | training loop | steps/s | peak GPU MB | Gaussians | test PSNR | SSIM "
              "| id mIoU "
              "| device |",
@@ -74,8 +75,7 @@ def report() -> None:
                      f"{r['steps_per_s']} | {r['peak_gpu_mb']} | {r['gaussians']:,} | {r['psnr']} | {r['ssim']} | "
                      f"{r['identity_miou']} | {r['device']} |")
     commands = sorted({r["command"] for r in records})
-    write_section("bench_train", "Training (Gaussian Grouping on gsplat)",
-                  [*lines, "", "Commands:", *[f"- `{c}`" for c in commands]])
+    write_tables(results, "Training speed and quality", [*lines, "", "Commands:", *[f"- `{c}`" for c in commands]])
 
 
 def main() -> int:
@@ -88,7 +88,7 @@ def main() -> int:
     parser.add_argument("--report", action="store_true")
     args = parser.parse_args()
     if args.report:
-        report()
+        report(Path(args.results))
         return 0
     warm_up()
     for scene in args.scenes:

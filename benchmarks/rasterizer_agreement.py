@@ -1,6 +1,6 @@
 """Check on a GPU that the CPU reference rasterizer agrees with gsplat (images and gradients).
 
-    python scripts/check_rasterizer.py --scene DIR [--out results.json]
+    python benchmarks/rasterizer_agreement.py --scene DIR [--out results.json]
 
 Gaussians are initialised from the scene's points with seeded random rotations, anisotropic scales,
 opacities, SH and identities; both back ends render the same views in float32 on the GPU, and a fixed
@@ -19,6 +19,7 @@ import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
+from engine.base.versions import code_commit  # noqa: E402
 from engine.io.gaussians import init_from_points  # noqa: E402
 from engine.io.scene import load_scene  # noqa: E402
 from engine.render.rasterize import CameraTensors, render  # noqa: E402
@@ -108,7 +109,7 @@ def main() -> int:
     scene = load_scene(args.scene)
     result = {"scene": args.scene, "gaussians": len(scene.points), "size": [scene.cameras[0].width,
                                                                            scene.cameras[0].height],
-              "device": torch.cuda.get_device_name(), **compare(scene, args.views, device),
+              "device": torch.cuda.get_device_name(), "commit": code_commit(), **compare(scene, args.views, device),
               "mcmc_ops": compare_mcmc_ops(device)}
     text = json.dumps(result, indent=1)
     print(text)

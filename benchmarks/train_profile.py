@@ -1,7 +1,7 @@
 """Where a training step's time goes: train a scene to a step (or resume a run), then profile steps.
 
-    python scripts/profile_train.py --scene SCENE [--until 7000] [--steps 300] [--json OUT.json] [--save RUN]
-    python scripts/profile_train.py --run RUN
+    python benchmarks/train_profile.py --scene SCENE [--until 7000] [--steps 300] [--json OUT.json] [--save RUN]
+    python benchmarks/train_profile.py --run RUN
 
 Prints milliseconds per step (wall, CUDA synchronised at both ends only, as in training), then from
 torch.profiler: kernels launched per step, GPU busy time per step (the sum of kernel times), host time
