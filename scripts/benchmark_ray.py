@@ -64,16 +64,15 @@ def cell_task(failed: str, scene: str, seed: int, inpainter: str, method: str, w
 
 
 # the share of a GPU a light inpainting task asks for; training tasks (base runs, cells) ask for the rest. The
-# inpainters without model weights are CPU work (OpenCV, and exemplar since session 24; before, its patch search
-# ran on the GPU: 150-159 s on 100 views for the direct baseline on an H100, run 3), so a whole GPU for them kept
-# the cells waiting: in run 3 the first cell started about 200 s after the base runs. With these shares such an
+# inpainters without model weights are CPU work (OpenCV, and exemplar's patch search), so a whole GPU for them
+# kept the cells waiting (the first cell started about 200 s after the base runs). With these shares such an
 # inpainting runs beside the trainings on a GPU (TRAININGS_PER_GPU of them). Model inpainters (LaMa, diffusion)
 # ask for a training's share, as a training would.
 INPAINT_GPU_SHARE = 0.01
 # training stages on one GPU at once, by default. A step at 300k Gaussians is bound by the host (6.1 ms, 4.9 ms of
 # kernels), so two processes keep a GPU busier: livingroom's whole matrix on one H200 took 785 s with one at a
 # time and 603 / 595 s with two (two runs), 586 s with three, whose cells each took longer (docs/BENCHMARKS.md,
-# "Run 7"). Two at once measured slower in an early session, when a step was bound by its kernels.
+# "Matrix wall time"). Two at once measured slower when a step was still bound by its kernels.
 TRAININGS_PER_GPU = 2
 
 

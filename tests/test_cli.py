@@ -22,3 +22,24 @@ def test_bad_options_end_in_one_line_and_status_2(tmp_path: Path, args: list[str
     proc = subprocess.run([sys.executable, "-m", "engine", *args], capture_output=True, text=True, cwd=REPO)
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.strip().count("\n") == 0 and says in proc.stderr, proc.stderr
+
+
+@pytest.mark.fast
+def test_every_setting_of_every_stage_says_what_it_means_in_help():
+    """--help shows each config field's comment; a field without one would show a bare default."""
+    from engine.complete.run import CompleteConfig
+    from engine.edit.holes import HoleConfig
+    from engine.edit.removal import RemovalConfig
+    from engine.inpaint.run import InpaintConfig
+    from engine.metrics.scores import ScoreConfig
+    from engine.pictures.turntable import TurntableConfig
+    from engine.train.config import TrainConfig, field_help
+    from engine.train.imported_run import ImportConfig
+    from engine.train.segments import SegmentConfig
+
+    configs = (TrainConfig, RemovalConfig, HoleConfig, InpaintConfig, CompleteConfig, SegmentConfig, ImportConfig,
+               TurntableConfig, ScoreConfig)
+    bare = {c.__name__: [n for n, text in field_help(c).items() if not text] for c in configs}
+    assert not {k: v for k, v in bare.items() if v}, f"fields without a one-line meaning: {bare}"
+    assert "every Nth step" in subprocess.run([sys.executable, "-m", "engine", "train", "--help"], cwd=REPO,
+                                              capture_output=True, text=True).stdout

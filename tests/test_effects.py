@@ -447,7 +447,7 @@ def test_removal_writes_the_effects_folder_for_every_view(tiny_run, tmp_path):
 
 @pytest.mark.slow
 def test_a_tiny_statue_run_finds_its_shadow_and_its_holes(statue_scene, tmp_path):
-    """Issue 16's targets for what CI can afford: on a statue scene, effect recall >= 0.6 and precision >= 0.5,
+    """The targets for what CI can afford: on a statue scene, effect recall >= 0.6 and precision >= 0.5,
     hole IoU >= 0.6. Measured on this scene (8 views of 96x72, 800 CPU steps), training seeds 0 / 1 / 2: recall
     0.67 / 0.63 / 0.63, precision 0.96 / 0.94 / 0.91, hole IoU 0.68 / 0.64 / 0.65, over every view (the scene
     has gt/ for all). Before Gaussians centred below the support's band counted when their extent reaches into
@@ -470,7 +470,7 @@ def test_a_tiny_statue_run_finds_its_shadow_and_its_holes(statue_scene, tmp_path
 def test_residual_gain_is_what_the_relit_shadow_still_lacks():
     """Measured again after relighting, on the shadow's own dark samples: brightened by 1.2 for a gain of 1.5,
     they ask for 1.25 more; brightened all the way (or past it) they ask for nothing, never for darkening. The lit
-    samples beside the shadow do not count: they lie elsewhere, on other texture (run 16's overshoot). Gains are
+    samples beside the shadow do not count: they lie elsewhere, on other texture (they made it overshoot). Gains are
     of light, so the samples are brightened in linear values and shown in sRGB ones, as the renders are."""
     from engine.edit.effects import Samples, Shadow, residual_gain
 

@@ -1,7 +1,7 @@
 """FT-<inpainter>(3 | All): finetune the removed scene into its hole, with the originals frozen for real.
 
-The published code means to freeze the original Gaussians and does not (nn.Parameter re-enables their
-gradients; ../shared/reference/algorithms.md). Here the Trainer zeroes their gradient rows before every
+The published code means to freeze the original Gaussians and does not (wrapping them in nn.Parameter again
+re-enables their gradients). Here the Trainer zeroes their gradient rows before every
 optimizer step, so Adam never moves them; a test compares them bit for bit before and after.
 
 Start: the removed scene's Gaussians (frozen) plus new ones where the reference views' inpainted depth puts

@@ -104,7 +104,7 @@ def consensus_fill(fills: dict[int, ViewFill], r: int) -> np.ndarray:
     One view's fill is one draw of the inpainter; Init trains on all of them and its scene settles near what
     they share, which is closer to the truth than any one draw. The median keeps that, drops the draws that
     pasted something else (a patch of table on a mat), and still gives every view the same fill at the same
-    3D points. In 2D on the 640x480 scenes' exact data (run12/consensus_eval.py, exemplar, 10 views) it beat
+    3D points. In 2D on the 640x480 scenes' exact data (exemplar, 10 views) it beat
     the reference's own fill carried on all six scenes in m-PSNR (+0.04 to +1.6 dB) and m-SSIM, and the mean
     on all six in m-SSIM (m-PSNR on four)."""
     ref = fills[r]

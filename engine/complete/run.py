@@ -35,19 +35,19 @@ from engine.train.trained_run import TrainedRun, load_run
 
 @dataclass
 class CompleteConfig:
-    run: str = ""
-    method: str = "init"
-    inpainter: str = "fsr"
+    run: str = ""  # the training run to complete
+    method: str = "init"  # init | reference | ft | direct (`engine plugins` lists them)
+    inpainter: str = "fsr"  # whose inpainted views to train on
     inpainted: str = ""  # default RUN/inpainted/<inpainter> (direct: RUN/inpainted/direct-<inpainter>)
     removed: str = ""  # default RUN/removed (its removal.json names the object; its renders are the baseline)
     holes: str = ""  # ft: default RUN/holes
     out: str = ""  # default RUN/complete/<Name>
     steps: int = 0  # 0: the training run's own (init, direct) or a tenth of it (ft)
-    seed: int = 0
-    device: str = "auto"
-    lpips_backbone: str = ""  # see engine.metrics.scores.ScoreConfig
-    lpips_heads: str = ""
-    fid_weights: str = ""
+    seed: int = 0  # random seed of the completion's training
+    device: str = "auto"  # auto | cuda | cpu
+    lpips_backbone: str = ""  # alexnet-owt-7be5be79.pth for LPIPS (default LPIPS_BACKBONE or torch's hub cache)
+    lpips_heads: str = ""  # lpips' weights/v0.1/alex.pth (default: from the installed lpips package)
+    fid_weights: str = ""  # FID Inception weights (default FID_INCEPTION or the set-up's .weights/)
     resume: bool = False  # continue the interrupted completion in --out (or the default folder)
     options: dict = field(default_factory=dict)  # the method's own options (engine.complete.registry)
 
@@ -96,7 +96,7 @@ def run_complete(config: CompleteConfig) -> dict:
     job = _job(config)
     out, original = job.out, job.original
     start = time.perf_counter()
-    # where a cell's own time goes, seconds by phase (issue 18: a matrix's time is mostly its cells)
+    # where a cell's own time goes, seconds by phase (a benchmark matrix's time is mostly its cells)
     clock = {"load": start - loading}
     if config.resume:  # the training scene is there already, with the report of its making
         colmap = json.loads(out.recolmap_json.read_text()) if out.recolmap_json.is_file() else None

@@ -22,7 +22,7 @@ shadow scales every albedo under it by the same factor, so the texture it darken
    relit renders, by what the dark samples still lack of the gain (residual_gain), once.
 
 Per view, the effect mask is where the shadowed Gaussians give at least half of a pixel's opacity. Measured
-in docs/BENCHMARKS.md ("Object effects").
+in docs/BENCHMARKS.md ("Removal and its effects").
 """
 
 from __future__ import annotations
@@ -51,21 +51,12 @@ MAX_RESIDUAL = 4.0 ** 2.4  # the second relight's, at most (4 in sRGB values)
 
 @dataclass
 class EffectsConfig:
+    """How the object's shadow and darkening are found and relit (docs/BENCHMARKS.md, "Removal and its effects")."""
+
     min_contrast: float = 0.15  # log-luminance: a candidate shadow at least about 14% darker than around it
-    # how far below the support plane receivers and shadowed Gaussians may sit, x the object's height: a
-    # surface's Gaussians lie within a few mm of it and its surface depth on it; 0.3 reached the ground
-    # below a statue's 8 cm slab, which put the light at 28 degrees elevation (the generator's sun: 40-65)
-    band_below: float = 0.15
-    # the darkening under and beside the object (engine.edit.contact_shade) is looked for this far beyond its
-    # footprint seen from above, x its radius. Measured on one training per family (relit renders scored
-    # outside the true hole): 0.5 / 0.75 / 1.0 / 2.0 gained +0.34 / +0.86 / +0.99 / -0.30 dB on livingroom,
-    # +1.88 / +0.91 / +0.22 / -0.73 on statue, +0.36 / +0.32 / +0.31 / +0.07 on tabletop (docs/BENCHMARKS.md)
-    contact_reach: float = 0.75
-    # the support under the object built off its plane is repainted this far from its axis, x its radius (0: not
-    # at all; engine.edit.underside). Tiny CPU runs, outside the true hole, all of the support under it repainted:
-    # 0.6 / 0.8 / 0.9 gained +0.88 / +1.06 / +1.04 dB on livingroom, +0.17 / +0.19 / +0.18 on tabletop, 0 / 0 /
-    # +0.21 on statue; only what lies off the plane, at 0.8: +1.03 / +0.13 / 0 (docs/BENCHMARKS.md)
-    underside_reach: float = 0.8
+    band_below: float = 0.15  # receivers and shadowed Gaussians may sit this far below the support, x object height
+    contact_reach: float = 0.75  # the darkening under and beside the object is looked for this far out, x its radius
+    underside_reach: float = 0.8  # the support built off its plane under the object is repainted this far, x radius
 
 
 @dataclass
@@ -217,9 +208,8 @@ def trimmed_mean(values: np.ndarray, cut: float = 10.0) -> np.ndarray:
     a texture of two colours (wood stripes, a checker) a median jumps from one to the other at a different share
     in each channel. On a checker floor darkened to 0.2 of its light, the per-channel medians gave gains of
     [2.18 3.55 3.36] for the true 5 (a colour cast once relit); these means give 4.77-5.20 in every channel
-    (tests/test_effects.py). The cut keeps the robustness to outliers (other objects' colours, speculars). On a GPU
-    livingroom removal (docs/BENCHMARKS.md, "Session 26") the shadow's gain this way scored 30.59 -> 30.83 dB
-    outside the hole; with the crater's colour (engine.edit.underside) the same way, 30.99."""
+    (tests/test_effects.py). The cut keeps the robustness to outliers (other objects' colours, speculars).
+    Measured on GPU removals: docs/BENCHMARKS.md, "Removal and its effects"."""
     lo, hi = np.percentile(values, [cut, 100.0 - cut], axis=0)
     inside = (values >= lo) & (values <= hi)
     return (values * inside).sum(0) / np.maximum(inside.sum(0), 1)
@@ -231,8 +221,8 @@ def their_shadows(site: Site, light: np.ndarray, means: np.ndarray, others: np.n
     support: (N,) over `means` (the support's Gaussians there, not the objects themselves: their sides facing
     the light are lit without the object) and (P,) over the sample `points`. Why: the livingroom's cup, box and
     apple stood in the snowman's shadow, their own shadows inside it; relit with it, they were 16 dB against
-    gt/ where our effect masks went beyond the truth (run 4). Left dark: tiny CPU livingroom +0.12 dB outside
-    the hole, the 640 scene's exact data +0.6 dB where the relights changed it (docs/BENCHMARKS.md)."""
+    gt/ where our effect masks went beyond the truth on a GPU livingroom. Left dark: tiny CPU livingroom +0.12 dB
+    outside the hole, the 640 scene's exact data +0.6 dB where the relights changed it."""
     if others is None or not others.any():
         return np.zeros(len(means), bool), np.zeros(len(points), bool)
     theirs = means[others]
@@ -301,8 +291,7 @@ def residual_gain(shadow: Shadow, before: Samples, relit: Samples) -> np.ndarray
     (tiny CPU livingroom: its dark samples by 1.26 for a gain of 1.52). Why not the lit samples against the dark
     ones again: they lie in different places, and on the trained 640 livingroom that comparison asked for 1.10 /
     1.16 / 1.09 more where the dark samples had already brightened by 97% of the gain; the shadow overshot gt/ by
-    3-21% per channel and scored 29.65 dB outside the hole, against 30.40 this way (statue 36.07 -> 36.03;
-    docs/benchmarks/effects/run16)."""
+    3-21% per channel and scored 29.65 dB outside the hole, against 30.40 this way (statue 36.07 -> 36.03)."""
     if shadow.dark.sum() < 20:
         return np.ones(3)
     pick = shadow.pick[shadow.dark]
@@ -316,8 +305,8 @@ def brighten(gaussians: Gaussians, chosen: np.ndarray, gains: np.ndarray) -> Gau
     the base colour c = C0 sh0 + 0.5 (sRGB-encoded, as the images it was trained on) becomes
     c' = srgb(g linear(c)), and the view-dependent terms scale by c' / c. Why linear: a shadow scales the light
     a surface gets, and in sRGB values that is a larger factor for dark texels than for bright ones, so one
-    factor for both overshoots the bright ones (+0.05 dB outside the hole on a GPU livingroom removal,
-    docs/BENCHMARKS.md "Runs 11 and 12"; the yellow-green sheen there is not this: it stays)."""
+    factor for both overshoots the bright ones (+0.03 to +0.13 dB in every region outside the hole on a GPU
+    livingroom removal)."""
     out = dict(gaussians)
     idx = torch.from_numpy(np.flatnonzero(chosen))
     sh0, sh_n = gaussians["sh0"].clone(), gaussians["shN"].clone()

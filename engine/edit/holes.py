@@ -17,7 +17,7 @@ view shows the background, but a render of the whole scene spreads the object's 
 its silhouette and across thin gaps (the tabletop toy's body over the mat between its tracks), so the mat seen
 through the gap failed the depth test. Measured at 640x480/100 views on six base runs (two per family), both
 rules on the same trainings: unseen IoU tabletop 0.825/0.782 -> 0.873/0.875, livingroom 0.873/0.942 ->
-0.900/0.945, statue 0.955/0.948 unchanged (docs/BENCHMARKS.md, "Hole masks against the removed scene's depth").
+0.900/0.945, statue 0.955/0.948 unchanged (docs/BENCHMARKS.md, "Hole masks").
 It also spares a render of every view.
 
 Before warping, rays of the object's region that the removed render lets through the support (the table
@@ -66,35 +66,27 @@ from engine.io.visibility import DEFAULT_REL_TOL, farthest_nearby, inside_visual
 from engine.pictures.preview import label, overlay
 from engine.train.trained_run import load_run_scene
 
-# A trained render's silhouettes are blurred by about a pixel. Against the removed scene's depth (the object's own
-# silhouette gone), at 640x480 one pixel outside the object's region measured best: livingroom 0.906/0.908 with
-# none, 0.909/0.910 with one, 0.874/0.882 with two; tabletop s1 0.867, 0.876, 0.876. So one pixel per 640 of width,
-# none below (the whole scene's depth had wanted one per 320; on 96x72 CPU runs a pixel took a third of the holes).
+# A trained render's silhouettes are blurred by about a pixel, so each view's depth is read as the farthest within
+# one pixel per this many of image width, outside the object's region (none below 640 px: on tiny CPU runs a pixel
+# took a third of the holes; docs/BENCHMARKS.md, "Hole masks").
 BLUR_PX_PER_WIDTH = 640
 HULL_DILATE_PX, HULL_SHARE = RemovalConfig.hull_dilate, RemovalConfig.hull_share  # see-through's hull: removal's
 
 
 @dataclass
 class HoleConfig:
-    run: str = ""
+    """Which object pixels no view saw behind (3DGIC's depth-guided masks) and which the render shows wrongly."""
+
+    run: str = ""  # the training run
     removed: str = ""  # default RUN/removed
     out: str = ""  # default RUN/holes
     scene: str = ""  # default: the scene named in the run's config.json
-    rel_tol: float = DEFAULT_REL_TOL  # depth test tolerance, relative to depth (see docs/BENCHMARKS.md)
+    rel_tol: float = DEFAULT_REL_TOL  # depth test tolerance, relative to depth
     dilate: int = 0  # px added around each hole afterwards
     support_plane: bool = True  # stop rays that see through the missing support patch at its plane
     occluder_margin: float = 0.0  # band around each view's object region that hides too, x image diagonal
-    # also mark the object's pixels whose render sees through the support plane, where some view saw the support
-    # but the base run never built it: their colour is whatever lies below (the pale sheets where the statue
-    # stood: 19.0 dB against 29.2 on built revealed pixels). With them the completions gain 2.8-3.2 dB of m-PSNR
-    # (CPU statue 160x120, Init and Ref with exemplar; docs/BENCHMARKS.md). The report scores the unseen part
-    # alone (the truth's holes: what no view saw) beside the written masks.
-    see_through: bool = True
-    # with see_through, also the object's pixels whose render shows the support under its footprint off the
-    # support plane by more than this share of depth (a crater or bulge of smeared texture where only grazing
-    # views saw it: under the livingroom plush's overhang). CPU livingroom 160x120: Init-exemplar m-PSNR
-    # 20.84 -> 23.15 dB, marking 31 px a view; docs/BENCHMARKS.md.
-    off_support_tol: float = 0.02
+    see_through: bool = True  # also mark object pixels whose render sees through the support the base run never built
+    off_support_tol: float = 0.02  # with see_through, also pixels whose support is this far off its plane, x depth
 
 
 def _under_object(camera: Camera, stopped: np.ndarray, depth: np.ndarray, cameras: list[Camera],

@@ -67,20 +67,19 @@ from engine.train.trained_run import TrainedRun, load_run
 
 @dataclass
 class RemovalConfig:
-    run: str = ""
+    """Which Gaussians go with the object, and whether its effects go too (docs/BENCHMARKS.md, "Decisions")."""
+
+    run: str = ""  # the training run
     object: str = ""  # id or name from the scene's objects.json; empty with --box
     box: list[float] = field(default_factory=list)  # x0 y0 z0 x1 y1 z1 (world), instead of an object
-    threshold: float = 0.3  # object probability above which a Gaussian is removed (see docs/BENCHMARKS.md)
+    threshold: float = 0.3  # object probability above which a Gaussian is removed (Gaussian Grouping's)
     hull: bool = True  # also remove Gaussians inside the object's visual hull (needs masks)
     hull_dilate: int = 2  # px added around the masks for the hull test
-    # of the views framing a Gaussian, the share whose mask it must fall in: 0.9 also takes what a few grazing
-    # views saw through a gap under the object (tabletop: +0.6 dB outside the hole, +0.8 on the revealed part;
-    # statue +0.5/+0.8, livingroom +0.1/+0.4; docs/BENCHMARKS.md)
-    hull_share: float = 0.9
+    hull_share: float = 0.9  # share of the views framing a Gaussian whose mask it must fall in, for the hull
     effects: bool = True  # also undo the object's shadow and darkening (relight them), write removed/effects
     out: str = ""  # default RUN/removed
     scene: str = ""  # default: the scene named in the run's config.json
-    device: str = "auto"
+    device: str = "auto"  # auto | cuda | cpu
 
 
 def object_probability(identity: torch.Tensor, classifier: torch.nn.Linear, object_id: int) -> torch.Tensor:
@@ -239,9 +238,8 @@ def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions:
     """What follows the cast shadow: the darkening under and beside the object relit, judged by `after` (the
     renders of `remaining` as it stands), then the crater under it repainted; the changed Gaussians, their
     renders, and what was found. `spared` (default `others`): what the contact shade leaves as it is, the other
-    objects and the support in their own cast shadows (Shadow.theirs). Apart so that
-    docs/benchmarks/effects/run16/overshoot.py finishes its variants of the shadow's relight exactly as removal
-    does."""
+    objects and the support in their own cast shadows (Shadow.theirs). Apart so that a study of the
+    shadow's relight can finish its variants exactly as removal does."""
     # the regions too: what the views saw under an overhang shows inside them in the removed renders
     shown = _train_samples(run.scene, after, [np.zeros_like(region) for region in regions])
     contact = find_contact_shade(remaining, core, plane, shown, config, others=others if spared is None else spared)

@@ -13,7 +13,7 @@ relights' band about the plane) and off the plane by more than OFF_PLANE x the r
 view-dependent terms. On the plane the support was built where views saw it well, so its texture stays.
 Why a mean and not the median: a flat colour scores best at the texture's mean, and on wood of light and dark
 stripes the per-channel median is the majority stripe's colour (the GPU livingroom's crater G +0.15 over gt/'s);
-the mean gave that scene's unfilled hole 19.11 -> 21.41 dB (docs/BENCHMARKS.md, "Session 26").
+the mean gave that scene's unfilled hole 19.11 -> 21.41 dB (docs/BENCHMARKS.md, "Removal and its effects").
 """
 
 from __future__ import annotations

@@ -12,8 +12,8 @@ Conventions (the classic source of 3D bugs, so stated once here):
   (`python -m engine render`).
 - Blender's camera looks down its -Z with +Y up, measures its lens against a sensor (the larger image side
   with the sensor fit below), its principal-point offset as a shift in units of the larger image side, and
-  a non-square pixel as the scene's pixel aspect. The conversion is the one ../shared/reference/blender.md
-  checked to 0 px against COLMAP's projection.
+  a non-square pixel as the scene's pixel aspect. This conversion projects to within 0 px of COLMAP's own
+  projection.
 """
 
 from __future__ import annotations

@@ -47,8 +47,8 @@ def inpainted_dilation(inpainted: InpaintedLayout) -> int:
 
 @dataclass
 class InpaintConfig:
-    run: str = ""
-    inpainter: str = "fsr"
+    run: str = ""  # the training run (its removed/ and holes/ are inpainted)
+    inpainter: str = "fsr"  # a name from `engine plugins` (fsr, telea, exemplar, lama, ...)
     model: str = ""  # lama: .pt/.onnx (LAMA_MODEL); diffusion: diffusers folder (DIFFUSION_MODEL); nanobanana: name
     depth_range: str = "foreground"  # global | foreground (the paper's two depth representations)
     dilate: int = 0  # px added to the hole masks before inpainting

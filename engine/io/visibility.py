@@ -21,7 +21,7 @@ def exact_tolerance(cameras: list[Camera]) -> float:
     pixel of depth slope: 1.9/focal of depth where a ray meets the surface at 15 degrees (a point met
     more obliquely by one view is seen by others), so the tolerance must follow the pixel. A
     fixed 1% is 8 mm at 0.8 m, and at 640 px it called points 2-7 mm behind the tabletop's toy seen
-    (its exact holes a third too small; docs/BENCHMARKS.md, "Eighth trainings"). Small images keep 1%.
+    (its exact holes a third too small; docs/BENCHMARKS.md, "Hole masks"). Small images keep 1%.
     """
     focal = min(min(c.fx, c.fy) for c in cameras)
     return min(DEFAULT_REL_TOL, 2.0 / focal)
@@ -111,7 +111,7 @@ def unseen_view_pixels(camera: Camera, depth: np.ndarray, cameras: list[Camera],
 
     Why: a test view may show what no training view had in frame (sky past their edges, a surface they never
     faced), which no training can know; the statue's worst test view held 65% of its error in 0.5% of such
-    pixels (docs/BENCHMARKS.md, "Run 7"). A surface point is seen as in seen_by_any; sky (infinite depth) is a
+    pixels (docs/BENCHMARKS.md, "Training"). A surface point is seen as in seen_by_any; sky (infinite depth) is a
     direction, seen where a view has that direction in frame and shows sky there too."""
     u, v = pixel_grid(camera)
     sky = ~np.isfinite(depth)

@@ -46,7 +46,7 @@ def _worst_gap(psnrs: list[float]) -> float | None:
 def _seen_only(per_view: dict[str, float]) -> dict:
     """The same over the pixels some training view saw, where the scene marks the others (a generated scene's
     unseen/): sky past every training view's frame is no floater, and no training can know it (the statue's worst
-    view: 6.4 dB below the mean over all pixels, 2.6 over the seen ones; docs/BENCHMARKS.md, "Run 7")."""
+    view: 6.4 dB below the mean over all pixels, 2.6 over the seen ones; docs/BENCHMARKS.md, "Training")."""
     if not per_view:
         return {}
     return {"psnr_seen_per_view": per_view, "worst_view_gap_seen": _worst_gap(list(per_view.values()))}

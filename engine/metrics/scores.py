@@ -39,7 +39,7 @@ class ScoreConfig:
     lpips_heads: str = ""  # lpips' weights/v0.1/alex.pth; default: from the installed lpips package
     fid_weights: str = ""  # pt_inception-2015-12-05-6726825d.pth; default FID_INCEPTION or torch's hub cache
     st_lpips_weights: str = ""  # alex_shift_tolerant.pth; default ST_LPIPS_WEIGHTS or the set-up's .weights/
-    device: str = "cpu"
+    device: str = "cpu"  # where the metric networks run
 
 
 @dataclass

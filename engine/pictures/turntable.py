@@ -36,15 +36,15 @@ from engine.render.render_views import render_to_folder
 
 @dataclass
 class TurntableConfig:
-    run: str = ""
+    run: str = ""  # the training run
     removed: str = ""  # the removal's folder (default RUN/removed)
     out: str = ""  # a new folder for cameras.json and turntable.mp4
     after: str = ""  # .ply shown as "after" (default: the removed scene)
     cameras: str = ""  # a cameras.json to follow instead of the orbit (a Blender camera's path)
-    frames: int = 48
-    fps: int = 24
+    frames: int = 48  # frames around the orbit
+    fps: int = 24  # frames a second of the MP4
     keep_frames: bool = False  # keep frames/, before/ and after/ beside the MP4
-    device: str = "auto"
+    device: str = "auto"  # auto | cuda | cpu
 
 
 def object_centre(run: RunLayout, removed: RemovedLayout) -> np.ndarray:

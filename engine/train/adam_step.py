@@ -3,8 +3,8 @@
 Why not `optimizer.step()` for each: a training step has eight Adam optimizers (seven Gaussian parameters,
 each its own so gsplat's strategies can move its state when Gaussians are added or relocated, plus the
 classifier), and each `Adam.step` spends about 0.2 ms of host time in Python (hooks, grouping, checks):
-1.6 ms a step on the H200's host, while the update's GPU work is 0.45 ms (docs/BENCHMARKS.md, "Where a
-training step goes"). The host time matters because the loop is bound by it.
+1.6 ms a step on the H200's host, while the update's GPU work is 0.45 ms (docs/BENCHMARKS.md,
+"Training"). The host time matters because the loop is bound by it.
 
 The update is torch's own fused Adam kernel (`torch._fused_adam_`, what `Adam(fused=True)` runs), so the
 numbers are those of `Adam(fused=True).step()`; parameters with the same hyperparameters share one call,

@@ -7,7 +7,12 @@ the run folder, so every number can be traced to its settings.
 from __future__ import annotations
 
 import argparse
+import ast
 import dataclasses
+import inspect
+import io
+import textwrap
+import tokenize
 from dataclasses import dataclass
 
 from engine.base.errors import InputError
@@ -28,61 +33,47 @@ SCHEDULE = ("refine_start", "refine_stop", "reset_every")  # steps that scale wi
 
 @dataclass
 class TrainConfig:
-    scene: str = ""
-    out: str = ""
-    preset: str = "default"
-    steps: int = 30_000
-    seed: int = 0
+    """One training run's settings (Gaussian Grouping's losses and schedule on gsplat). Why each default is what it
+    is: docs/BENCHMARKS.md, "Decisions"."""
+
+    scene: str = ""  # the scene folder (COLMAP model, images/, masks/ where there are any)
+    out: str = ""  # a new run folder
+    preset: str = "default"  # default | tiny (a few hundred steps at tiny sizes, for CPU tests)
+    steps: int = 30_000  # training steps; the densification schedule stretches with it
+    seed: int = 0  # random seed of the initialisation and the view order
     device: str = "auto"  # auto | cuda | cpu
-    # N = gsplat's MCMCStrategy capped at N Gaussians; 0 = no budget (gsplat's DefaultStrategy). Chosen from the
-    # budget curve at 640x480/100 views (docs/BENCHMARKS.md, "The budget curve"): test PSNR 41.3-44.1 dB from
-    # 50k to 1M on livingroom, completions flat across budgets, 1M about 1.5x the time; unbudgeted runs leave
-    # floaters (a livingroom test view 11.7 dB below the mean)
-    max_gaussians: int = 300_000
+    max_gaussians: int = 300_000  # MCMC budget (gsplat's MCMCStrategy); 0: no budget (gsplat's DefaultStrategy)
     resolution: int = 1  # load the scene at 1/resolution of its size (1, 2, 4, 8), as 3DGS's -r
-    sh_degree: int = 3
+    sh_degree: int = 3  # spherical-harmonics degree of the colours
     sh_degree_interval: int = 1000  # one more SH band every this many steps
-    init_opacity: float = 0.1
-    # learning rates (gsplat simple_trainer / Gaussian Grouping); means scaled by the scene extent
-    lr_means: float = 1.6e-4
-    lr_means_final_ratio: float = 0.01
-    lr_quats: float = 1e-3
-    lr_scales: float = 5e-3
-    lr_opacities: float = 5e-2
-    lr_sh0: float = 2.5e-3
-    lr_shN: float = 2.5e-3 / 20
-    lr_identity: float = 2.5e-3
-    lr_classifier: float = 5e-4
-    # losses (Gaussian Grouping): 0.8 L1 + 0.2 (1 - SSIM) + CE / log(C) + 3D regulariser
-    ssim_weight: float = 0.2
-    identity_weight: float = 1.0
-    # render and train the identities (and the 3D regulariser) on every Nth step only, RGB alone in between (3
-    # rasterized channels, not 9); Gaussian Grouping's is every step (1). On the GPU (livingroom 640x480/100
-    # views, 30k steps, one training each): N = 1 / 2 / 4 trained in 207 / 180 / 169 s to test PSNR 42.90 /
-    # 42.86 / 42.88 and identity mIoU 0.995 each (docs/BENCHMARKS.md). The tiny preset keeps 1: at a few
-    # hundred steps N=2 cost 0.018 mIoU, and the CPU rasterizer saves nothing. Scenes without masks never
-    # render identities: nothing would train them.
-    identity_every: int = 4
-    reg3d_every: int = 5
-    reg3d_k: int = 5
-    reg3d_samples: int = 1000
-    reg3d_weight: float = 2.0
-    # neighbour lists of a pool of Gaussians, rebuilt after each densification and every reg3d_refresh
-    # steps: a rebuild searches all Gaussians (8192 queries: 64 ms at 290k on the H200, 0.6 ms a step
-    # while densifying every 100 steps); 2048 queries, renewed every 200 steps, cost a quarter of that
-    reg3d_pool: int = 2048
-    reg3d_refresh: int = 200
-    # densification
-    refine_start: int = 500
-    refine_stop: int = 15_000
-    refine_every: int = 100
-    reset_every: int = 3000
-    mcmc_opacity_reg: float = 0.01
-    mcmc_scale_reg: float = 0.01
-    # bookkeeping
-    checkpoint_every: int = 5000
-    keep_checkpoints: int = 2
-    log_every: int = 100
+    init_opacity: float = 0.1  # opacity of the Gaussians made from the sparse points
+    lr_means: float = 1.6e-4  # learning rate of the positions, times the scene's extent (gsplat's simple_trainer)
+    lr_means_final_ratio: float = 0.01  # the positions' rate decays to this share of itself by the last step
+    lr_quats: float = 1e-3  # learning rate of the rotations
+    lr_scales: float = 5e-3  # learning rate of the log scales
+    lr_opacities: float = 5e-2  # learning rate of the opacity logits
+    lr_sh0: float = 2.5e-3  # learning rate of the base colour
+    lr_shN: float = 2.5e-3 / 20  # learning rate of the higher SH bands
+    lr_identity: float = 2.5e-3  # learning rate of the 16-d identity encodings (Gaussian Grouping)
+    lr_classifier: float = 5e-4  # learning rate of the per-pixel linear classifier
+    ssim_weight: float = 0.2  # photometric loss: (1 - w) L1 + w (1 - SSIM)
+    identity_weight: float = 1.0  # weight of the identity cross-entropy (divided by log of the class count)
+    identity_every: int = 4  # render and train the identities on every Nth step only (1: every step, the paper's)
+    reg3d_every: int = 5  # the 3D KNN regulariser runs on every Nth identity step
+    reg3d_k: int = 5  # neighbours each sampled Gaussian's identity is pulled towards
+    reg3d_samples: int = 1000  # Gaussians sampled for the regulariser each time
+    reg3d_weight: float = 2.0  # weight of the 3D regulariser
+    reg3d_pool: int = 2048  # Gaussians whose neighbour lists are kept (renewed every reg3d_refresh steps)
+    reg3d_refresh: int = 200  # steps between renewals of the regulariser's neighbour pool
+    refine_start: int = 500  # first densification step
+    refine_stop: int = 15_000  # last densification step
+    refine_every: int = 100  # steps between densifications
+    reset_every: int = 3000  # steps between opacity resets (DefaultStrategy only)
+    mcmc_opacity_reg: float = 0.01  # MCMC's opacity regulariser
+    mcmc_scale_reg: float = 0.01  # MCMC's scale regulariser
+    checkpoint_every: int = 5000  # steps between checkpoints (a stopped run resumes from the newest)
+    keep_checkpoints: int = 2  # checkpoints kept on disk
+    log_every: int = 100  # steps between progress lines
 
     def sh_degree_at(self, step: int) -> int:
         """SH bands in use after `step` steps: one more every sh_degree_interval, up to sh_degree."""
@@ -109,21 +100,51 @@ class TrainConfig:
         return dataclasses.replace(self, steps=steps, **{k: max(1, round(getattr(self, k) * scale)) for k in schedule})
 
 
+def field_help(cls) -> dict[str, str]:
+    """Each field's one-line meaning: the comment on its line, else the comment lines just above it, read from the
+    class's source (its own and its bases'), so the dataclass is the one place a setting is explained."""
+    meanings: dict[str, str] = {}
+    for klass in reversed(cls.__mro__[:-1]):
+        if not dataclasses.is_dataclass(klass):
+            continue
+        lines, start = inspect.getsourcelines(klass)
+        comments = {tok.start[0]: tok.string.lstrip("# ").strip()
+                    for tok in tokenize.generate_tokens(io.StringIO("".join(lines)).readline)
+                    if tok.type == tokenize.COMMENT}
+        code = {i + 1 for i, line in enumerate(lines) if line.strip() and not line.strip().startswith("#")}
+        for node in ast.parse(textwrap.dedent("".join(lines))).body[0].body:
+            if not isinstance(node, ast.AnnAssign) or not isinstance(node.target, ast.Name):
+                continue
+            row = node.lineno
+            text = comments.get(row) if row in comments else None
+            if text is None:
+                above = []
+                while row - 1 in comments and row - 1 not in code:
+                    row -= 1
+                    above.insert(0, comments[row])
+                text = " ".join(above)
+            meanings[node.target.id] = text
+    return meanings
+
+
 def add_config_arguments(parser: argparse.ArgumentParser, cls=TrainConfig, skip: tuple[str, ...] = (),
                          required: tuple[str, ...] = ("scene", "out")) -> None:
-    """One --option per dataclass field, typed from its default (bools as --x/--no-x, lists of numbers)."""
+    """One --option per dataclass field, typed from its default (bools as --x/--no-x, lists of numbers), its help
+    the field's comment (field_help) and its default."""
+    meanings = field_help(cls)
     for f in dataclasses.fields(cls):
         if f.name in skip:
             continue
         flag = f"--{f.name.replace('_', '-')}"
+        meaning = meanings.get(f.name, "").replace("%", "%%")
         if f.default_factory is not dataclasses.MISSING:
-            parser.add_argument(flag, type=float, nargs="*", default=f.default_factory(), help="(default: none)")
+            parser.add_argument(flag, type=float, nargs="*", default=f.default_factory(), help=meaning)
         elif isinstance(f.default, bool):
-            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=f.default,
-                                help=f"(default: {f.default})")
+            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=f.default, help=meaning)
         else:
+            default = f" (default: {f.default})" if f.default != "" else ""
             parser.add_argument(flag, type=type(f.default), default=f.default, required=f.name in required,
-                                help=f"(default: {f.default})")
+                                help=(meaning + default).strip())
 
 
 def config_from_args(args: argparse.Namespace, cls=TrainConfig):

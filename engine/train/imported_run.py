@@ -36,7 +36,7 @@ class ImportConfig:
     scene: str = ""  # the COLMAP scene folder it was trained on (images/, sparse/0/)
     out: str = ""  # the new run folder
     resolution: int = 1  # the resolution the splat is checked at (1, 2, 4, 8), kept for later stages
-    device: str = "auto"
+    device: str = "auto"  # auto | cuda | cpu
 
 
 def import_splat(config: ImportConfig) -> dict:

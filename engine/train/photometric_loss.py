@@ -2,7 +2,7 @@
 
 Why: autograd records SSIM as about 25 small operations and replays about 40 in the backward pass, every
 training step. Their GPU time is small, but the training loop is bound by the host's time to launch
-kernels (docs/BENCHMARKS.md, "Where a training step goes"), so each launch saved is time saved. The forward
+kernels (docs/BENCHMARKS.md, "Training"), so each launch saved is time saved. The forward
 pass is engine.metrics.image_metrics.ssim_parts (the metric's own code); the backward pass is the closed form
 below, checked against autograd in tests/test_training.py.
 

@@ -55,7 +55,7 @@ SHARPNESS = 20.0  # classifier logit for a Gaussian's own object: softmax ~1, so
 
 @dataclass
 class SegmentConfig(ProposalConfig):
-    run: str = ""
+    run: str = ""  # the training run
     auto: bool = False  # proposals from the geometry alone (engine.train.proposals)
     from_masks: str = ""  # a folder of per-view instance-id PNGs named like the images (0 = unlabelled)
     box: list[float] = field(default_factory=list)  # x0 y0 z0 x1 y1 z1: the Gaussians inside become an object
@@ -65,7 +65,7 @@ class SegmentConfig(ProposalConfig):
     join: float = 0.5  # a segment joins the object that holds at least this fraction of its Gaussians
     min_gaussians: int = 20  # smaller objects go to the background
     out: str = ""  # default RUN/segments
-    device: str = "auto"
+    device: str = "auto"  # auto | cuda | cpu
 
     def __post_init__(self) -> None:
         self.box = [float(v) for v in self.box]  # saved in segments.json

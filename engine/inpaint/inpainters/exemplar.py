@@ -117,7 +117,7 @@ class _SourceSearch:
     x 4 values) instead of a matrix of every source patch unrolled (H x W x 243): 4 ms a patch on one CPU core
     against 42 ms for the matrix, the same fills. Source patches are the originally known ones, which filling
     never changes, so the planes are set once. Why on the CPU: Exemplar.parallel_views
-    (docs/benchmarks/inpaint/search_speed.py)."""
+    (benchmarks/inpaint_speed.py)."""
 
     def __init__(self, work: np.ndarray, known: np.ndarray, patch: int) -> None:
         whole = cv2.erode(known.astype(np.uint8), np.ones((patch, patch), np.uint8),
