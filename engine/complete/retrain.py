@@ -12,8 +12,8 @@ otherwise. Everything still trains (nothing is frozen, unlike FT), on the same i
 variant, so the object's region is learnt from the inpainted views alone; what the start saves is relearning the
 rest of the scene. The results name it (Init-<inpainter>[warm]). Why the default: on the GPU (640x480/100 views,
 exemplar, one training a family) it scored higher m-SSIM in all six cells of livingroom and statue (Init, Ref,
-Direct), higher m-PSNR in five (+0.09 to +0.56 dB; Ref on the statue -0.02), in 34-42 s less per cell; on the tiny CPU livingroom
-+0.7 to +1.2 dB m-PSNR. Torch-free at the top, like every plug-in (engine.complete.registry).
+Direct), higher m-PSNR in five (+0.09 to +0.56 dB; Ref on the statue -0.02), in 34-42 s less per cell; on the
+tiny CPU livingroom +0.7 to +1.2 dB m-PSNR. Torch-free at the top, like every plug-in (engine.complete.registry).
 """
 
 from __future__ import annotations
