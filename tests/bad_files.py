@@ -161,4 +161,6 @@ def run(folder: Path, count: int, seed: int) -> dict:
 
 
 if __name__ == "__main__":
-    print(json.dumps(run(Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]))))
+    from engine.base.versions import code_commit
+
+    print(json.dumps({**run(Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3])), "commit": code_commit()}))

@@ -1,5 +1,6 @@
 """What a result was made with: the code's commit, the engine's, Python's, torch's and gsplat's versions and the GPU,
-for the records every training run and benchmark cell keep (a number without its setting cannot be compared)."""
+for the records every training run and benchmark cell keep (a number without its setting cannot be compared). torch
+is imported where it is used, so that the Blender environment's measurement tools read the commit here too."""
 
 from __future__ import annotations
 
@@ -9,8 +10,6 @@ import os
 import platform
 import subprocess
 from pathlib import Path
-
-import torch
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -32,6 +31,8 @@ def code_commit() -> str | None:
 
 
 def versions() -> dict[str, str | None]:
+    import torch
+
     from engine import __version__
 
     try:
@@ -42,5 +43,8 @@ def versions() -> dict[str, str | None]:
             "torch": torch.__version__, "cuda": torch.version.cuda, "gsplat": gsplat}
 
 
-def gpu_name(device: torch.device) -> str | None:
+def gpu_name(device) -> str | None:
+    """The CUDA device's name, None on the CPU (`device`: a torch.device)."""
+    import torch
+
     return torch.cuda.get_device_name(device) if device.type == "cuda" else None

@@ -1,0 +1,114 @@
+#!/bin/bash
+# One runner for every GPU measurement docs/BENCHMARKS.md quotes. Run from the repository root on the GPU machine
+# (the `device` tool's, or any Linux host with CUDA and Python 3.12):
+#
+#   SPLATFILL_COMMIT=<commit here> bash benchmarks/gpu.sh NAME [ARGS...]
+#
+# Every call first takes what it was carried, once per machine (a fresh machine is bare):
+#   .whl/*.whl              wheels (gsplat, plyfile, lpips, ...) into /tmp/site
+#   .gsplat_build/*.tgz     gsplat's CUDA extension built on an earlier machine (`save-build` makes it); else it is
+#                           built once here (about 80 s), before any clock starts
+#   .bench/*/*.tgz.KofN     generated scenes packed by benchmarks/pack_scene.py -> /tmp/gpu/scenes/<name>
+#   .bench/carry-*/         large files split by benchmarks/carry.py -> /tmp/gpu/files (wheels there installed,
+#                           weights there used as SPLATFILL_WEIGHTS)
+# A SCENE argument is a name under /tmp/gpu/scenes or a path. Records go to $OUT/NAME/ (the device tool returns
+# $OUT), or to RESULTS=DIR. SPLATFILL_COMMIT names the code, since the machine's copy of the tree has no .git.
+#
+# NAMEs (each a measurement of one BENCHMARKS section; a variant to judge is a branch or an engine flag, never a patch):
+#   setup                          only the above
+#   train SCENE... [--budgets N..] benchmarks/train_speed.py: training time, test PSNR, memory      ("Training")
+#   profile SCENE [ARGS]           benchmarks/train_profile.py: where a step's time goes             ("Training")
+#   render SCENE [ARGS]            benchmarks/render_speed.py: one render forward + backward         ("Training")
+#   rasterizer SCENE               benchmarks/rasterizer_agreement.py: reference rasterizer vs gsplat ("CPU facts")
+#   metrics                        benchmarks/metrics_agreement.py: LPIPS and FID vs their packages  ("CPU facts")
+#   removal SCENE                  benchmarks/removal_sweep.py: thresholds and hole-mask settings     ("Removal")
+#   segments SCENE...              a 100k-budget training each, then benchmarks/segments.py    ("Objects without masks")
+#   judge SCENE [REMOVE FLAGS]     base run, remove (with the flags), holes, exemplar, Ref-exemplar; scored by
+#                                  benchmarks/removal_score.py and hole_error.py             ("Removal and its effects")
+#   matrix SCENE... [-- ARGS]      scripts/benchmark.py's whole matrix (its own defaults, ARGS added)   ("Completion")
+#   start NAME [ARGS]              any of the above detached (for runs past one call's 10 minutes); its records go
+#                                  to /tmp/gpu/out/NAME, its log to /tmp/gpu/NAME.log
+#   wait SECONDS                   until the detached runs end or SECONDS pass
+#   collect                        the detached runs' records (JSON, CSV, Markdown, text, pictures) into $OUT
+#   save-build                     gsplat's built extension into $OUT/gsplat_build.tgz (carry it as .gsplat_build/)
+#   wheels                         HERE, not on the GPU machine: download the wheels it lacks into .whl/ (17 MB,
+#                                  git-ignored); imageio-ffmpeg (68 MB, for turntable MP4s) goes through carry.py
+set -o pipefail
+if [ "$1" = wheels ]; then
+  python3 -m pip download -q --no-deps --only-binary=:all: --python-version 3.12 --implementation cp \
+    --platform manylinux_2_28_x86_64 --platform manylinux_2_27_x86_64 --platform manylinux_2_17_x86_64 \
+    --platform manylinux2014_x86_64 -d .whl gsplat==1.5.3 jaxtyping wadler-lindig plyfile==1.1.5 OpenImageIO==3.2.2.0 \
+    rich markdown-it-py mdurl pygments && du -sh .whl; exit; fi
+G=/tmp/gpu; mkdir -p $G/scenes $G/files $G/out
+export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3)
+export SPLATFILL_WEIGHTS=${SPLATFILL_WEIGHTS:-$G/files} TORCH_CUDA_ARCH_LIST=${TORCH_CUDA_ARCH_LIST:-9.0}
+EXT=${TORCH_EXTENSIONS_DIR:-/root/.cache/torch_extensions/py312_cu130}
+[ -n "$SPLATFILL_COMMIT" ] || echo "gpu.sh: SPLATFILL_COMMIT is not set: records will name no commit" >&2
+GPUS=$(nvidia-smi -L 2>/dev/null | wc -l); [ "$GPUS" -gt 0 ] || { echo "gpu.sh: no GPU on this machine" >&2; exit 2; }
+export OMP_NUM_THREADS=${OMP_NUM_THREADS:-$(( $(nproc) / GPUS ))}  # processes a GPU each must not spin on all cores
+
+setup() {
+  python3 benchmarks/carry.py join $G/files
+  local wheels=$(ls .whl/*.whl $G/files/*.whl 2>/dev/null)
+  if [ -n "$wheels" ] && [ ! -f $G/.wheels ]; then
+    python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target /tmp/site $wheels &&
+      touch $G/.wheels || exit 1
+  fi
+  ls .bench/*/*.tgz.*of* > /dev/null 2>&1 && { mkdir -p $G/parts; cp .bench/*/*.tgz.*of* $G/parts/; }
+  [ -d $G/parts ] && python3 benchmarks/unpack_scene.py $G/parts $G/scenes
+  if [ ! -d $EXT/gsplat_cuda ] && ls .gsplat_build/*.tgz > /dev/null 2>&1; then
+    # ninja rebuilds an object whose logged mtime is older than a source's: date back the sources pip just wrote
+    mkdir -p $EXT && tar xzf .gsplat_build/*.tgz -C $EXT && find /tmp/site/gsplat -type f -exec touch -d 2020-01-01 {} +
+  fi
+  [ -f $G/.built ] || { python3 -c "from engine.render.rasterize import gsplat_rasterization as g; g()" > $G/build.log 2>&1 &&
+    touch $G/.built || { tail -5 $G/build.log; exit 1; }; }
+}
+
+scene() { [ -d "$1" ] && echo "$1" || echo $G/scenes/$1; }
+out() { local d=${RESULTS:-${OUT:-$G/out}}/$1; mkdir -p $d; echo $d; }
+
+judge() {  # $1 scene, the rest flags for `engine remove`
+  local S=$(scene $1) J=$G/judge/$1 D=$(out judge); shift; mkdir -p $J
+  local target=$(python3 -c "import json,sys; print(next(o['name'] for o in json.load(open(sys.argv[1])) if o.get('target')))" $S/masks/objects.json)
+  [ -f $J/run/point_cloud.ply ] || python3 -m engine train --scene $S --out $J/run --device cuda > $J/train.log 2>&1 || { tail -5 $J/train.log; return 1; }
+  rm -rf $J/run/removed $J/run/holes $J/run/inpainted $J/run/complete
+  { python3 -m engine remove --run $J/run --object "$target" --device cuda "$@" && python3 -m engine holes --run $J/run &&
+    python3 -m engine inpaint --run $J/run --inpainter exemplar &&
+    python3 -m engine complete --run $J/run --method reference --inpainter exemplar --device cuda; } > $J/chain.log 2>&1 || { tail -5 $J/chain.log; return 1; }
+  local name=$(basename $S)
+  python3 benchmarks/removal_score.py $S $J/run/removed --picture $D/${name}_judge.jpg > $D/${name}_judge.txt
+  python3 benchmarks/hole_error.py $S removed=$J/run/removed/images "Ref-exemplar=$J/run/complete/Ref-exemplar[warm]/renders" > $D/${name}_hole_error.txt
+  cp $J/run/metrics.json $D/${name}_base_metrics.json; cp $J/run/removed/removal.json $D/${name}_removal.json
+  cp "$J/run/complete/Ref-exemplar[warm]/scores.json" $D/${name}_ref_exemplar_scores.json; cat $D/${name}_judge.txt
+}
+
+name=$1; shift
+[ "$name" = wait ] || [ "$name" = collect ] || setup
+case $name in
+  setup) ls $G/scenes $G/files; python3 -c "import gsplat, torch; print('gsplat', gsplat.__version__, torch.cuda.get_device_name())";;
+  train) s=(); while [ $# -gt 0 ] && [ "${1#--}" = "$1" ]; do s+=("$(scene $1)"); shift; done
+         python3 benchmarks/train_speed.py --scenes "${s[@]}" --results $(out train) "$@";;
+  profile) python3 benchmarks/train_profile.py --scene $(scene $1) --json $(out profile)/$1.json "${@:2}";;
+  render) python3 benchmarks/render_speed.py --scene $(scene $1) "${@:2}" | tee $(out render)/$1.txt;;
+  rasterizer) python3 benchmarks/rasterizer_agreement.py --scene $(scene $1) --out $(out rasterizer)/rasterizer_agreement.json;;
+  metrics) python3 benchmarks/metrics_agreement.py --results $(out metrics);;
+  removal) python3 benchmarks/removal_sweep.py --scene $(scene $1) --results $(out removal) "${@:2}";;
+  segments) runs=(); for s in "$@"; do
+              python3 -m engine train --scene $(scene $s) --out $G/seg/$s --max-gaussians 100000 --device cuda > $G/seg_$s.log 2>&1 ||
+                { tail -5 $G/seg_$s.log; exit 1; }; runs+=($G/seg/$s); done
+            python3 benchmarks/segments.py --run "${runs[@]}" --results $(out segments);;
+  judge) judge "$@";;
+  matrix) s=(); while [ $# -gt 0 ] && [ "$1" != -- ]; do s+=("$(scene $1)"); shift; done; shift
+          d=$(out matrix); python3 scripts/benchmark.py --scenes "${s[@]}" --out $G/matrix --device cuda "$@" 2>&1 | tail -n 30
+          cp $G/matrix/*.md $G/matrix/*.csv $G/matrix/*.json $d/ 2>/dev/null; cp $G/matrix/*.png $d/ 2>/dev/null;;
+  start) RESULTS=$G/out setsid nohup bash benchmarks/gpu.sh "$@" > $G/$1.log 2>&1 < /dev/null &
+         echo $! > $G/$1.pid; sleep 5; tail -n 3 $G/$1.log;;
+  wait) end=$(( $(date +%s) + ${1:-540} ))
+        running() { for f in $G/*.pid; do [ -f "$f" ] && kill -0 $(cat $f) 2> /dev/null && return 0; done; return 1; }
+        while running && [ $(date +%s) -lt $end ]; do sleep 10; done
+        running && echo "still running" || echo "all ended"; tail -n 3 $G/*.log 2>/dev/null;;
+  collect) find $G/out -type f \( -name '*.json' -o -name '*.csv' -o -name '*.md' -o -name '*.txt' -o -name '*.png' -o -name '*.jpg' \) -size -16M |
+             while read f; do rel=${f#$G/out/}; mkdir -p $OUT/$(dirname $rel); cp "$f" "$OUT/$rel"; done; ls -R $OUT | head -40;;
+  save-build) tar czf $OUT/gsplat_build.tgz -C $EXT gsplat_cuda && ls -la $OUT;;
+  *) sed -n '2,38p' "$0"; exit 2;;
+esac
