@@ -29,7 +29,8 @@
 #   start NAME [ARGS]              any of the above detached (for runs past one call's 10 minutes); its records go
 #                                  to /tmp/gpu/out/NAME, its log to /tmp/gpu/NAME.log
 #   wait SECONDS                   until the detached runs end or SECONDS pass
-#   collect                        the detached runs' records (JSON, CSV, Markdown, text, pictures) into $OUT
+#   collect                        the detached runs' records (JSON, CSV, Markdown, text, pictures) as $OUT/records.tgz
+#                                  (the device tool returns at most 8 files a call)
 #   save-build                     gsplat's built extension into $OUT/gsplat_build.tgz (carry it as .gsplat_build/)
 #   wheels                         HERE, not on the GPU machine: download the wheels it lacks into .whl/ (17 MB,
 #                                  git-ignored); imageio-ffmpeg (68 MB, for turntable MP4s) goes through carry.py
@@ -107,8 +108,8 @@ case $name in
         running() { for f in $G/*.pid; do [ -f "$f" ] && kill -0 $(cat $f) 2> /dev/null && return 0; done; return 1; }
         while running && [ $(date +%s) -lt $end ]; do sleep 10; done
         running && echo "still running" || echo "all ended"; tail -n 3 $G/*.log 2>/dev/null;;
-  collect) find $G/out -type f \( -name '*.json' -o -name '*.csv' -o -name '*.md' -o -name '*.txt' -o -name '*.png' -o -name '*.jpg' \) -size -16M |
-             while read f; do rel=${f#$G/out/}; mkdir -p $OUT/$(dirname $rel); cp "$f" "$OUT/$rel"; done; ls -R $OUT | head -40;;
+  collect) (cd $G/out && find . -type f \( -name '*.json' -o -name '*.csv' -o -name '*.md' -o -name '*.txt' -o -name '*.png' \
+             -o -name '*.jpg' \) -size -4M | tar czf $OUT/records.tgz -T -) && tar tzf $OUT/records.tgz | head -40;;
   save-build) tar czf $OUT/gsplat_build.tgz -C $EXT gsplat_cuda && ls -la $OUT;;
-  *) sed -n '2,38p' "$0"; exit 2;;
+  *) sed -n '2,36p' "$0"; exit 2;;
 esac
