@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import ast
+import csv
+import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -95,3 +98,43 @@ def test_the_readme_table_is_the_registry():
                           text=True, check=True)
     assert proc.stdout.strip() in (REPO / "README.md").read_text(), \
         "README's plug-in table is stale: paste `python -m engine plugins --markdown` into it"
+
+
+DOCS = REPO / "docs"
+RECORD_SUFFIXES = {".json", ".csv", ".md", ".txt", ".png", ".jpg"}
+
+
+@pytest.mark.fast
+def test_docs_hold_one_reference_and_only_the_records_it_quotes():
+    """BENCHMARKS.md is a short reference, docs/ holds records (no scripts, patches, logs, archives, videos), and
+    every results folder says where each of its files came from."""
+    files = [p for p in DOCS.rglob("*") if p.is_file()]
+    assert len(files) <= 150, f"{len(files)} files under docs/"
+    assert not [p for p in files if p.suffix not in RECORD_SUFFIXES], "only records and pictures under docs/"
+    assert len((DOCS / "BENCHMARKS.md").read_text().splitlines()) <= 300
+    for folder in (p for p in (DOCS / "results").iterdir() if p.is_dir()):
+        named = set(json.loads((folder / "provenance.json").read_text())) if folder.name != "decisions" else \
+            {n for row in csv.DictReader((folder / "decisions.csv").open()) for n in row["records"].split()}
+        unnamed = {p.name for p in folder.iterdir()} - named - {"provenance.json", "decisions.csv", "README.md"}
+        assert not unnamed, f"{folder.name}: no provenance for {sorted(unnamed)}"
+    quoted = set(re.findall(r"`docs/results/([\w/.-]+)`", (DOCS / "BENCHMARKS.md").read_text()))
+    missing = [q for q in quoted if not (DOCS / "results" / q.rstrip("/")).exists()]
+    assert not missing, f"BENCHMARKS quotes records that are not there: {missing}"
+
+
+@pytest.mark.fast
+def test_readme_puts_blender_before_the_command_line_and_stays_short():
+    text = (REPO / "README.md").read_text()
+    assert len(text.splitlines()) <= 250
+    assert text.index("## In Blender") < text.index("## Your own capture") < text.index("## The stages")
+
+
+@pytest.mark.fast
+def test_code_names_no_runs_and_no_paths_outside_the_repository():
+    """Comments give the reason for a value and a stable BENCHMARKS section, not the order in which work happened."""
+    run_names = re.compile(r"\b([Rr]uns? \d+|run\d+/|[Ss]ession \d+|[Ii]ssue \d+|\.\./shared/|docs/benchmarks?/"
+                           r"|(Fifth|Sixth|Seventh|Eighth|Ninth|Tenth) trainings)")
+    sources = [p for folder in ("engine", "addon", "operators") for p in (REPO / folder).rglob("*.py")]
+    found = {str(p.relative_to(REPO)): m[0] for p in sources for m in [run_names.search(p.read_text())] if m}
+    assert not found, found
+    assert not [p.name for p in (REPO / "scripts").glob("*.py") if p.name.startswith(("bench_", "check_", "profile_"))]

@@ -33,10 +33,11 @@ def test_manifest_validates():
     assert proc.returncode == 0 and "Success" in proc.stdout, proc.stdout + proc.stderr
 
 
-def test_zip_carries_the_code_but_no_environments_or_tests(extension_zip: Path):
+def test_zip_carries_the_code_but_no_environments_tests_or_developer_tools(extension_zip: Path):
     names = zipfile.ZipFile(extension_zip).namelist()
     assert "blender_manifest.toml" in names and "engine/io/scene.py" in names and "operators/check_engine.py" in names
-    assert not [n for n in names if n.startswith((".venv", "tests/", ".git"))]
+    assert "scripts/make_scene.py" in names
+    assert not [n for n in names if n.startswith((".venv", "tests/", ".git", "benchmarks/", "docs/"))]
 
 
 def test_extension_installs_registers_runs_the_engine_and_unregisters(extension_zip: Path, monkeypatch):
