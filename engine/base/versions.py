@@ -16,14 +16,16 @@ REPO = Path(__file__).resolve().parents[2]
 
 @functools.cache
 def code_commit() -> str | None:
-    """The checkout's commit (short hash, "+dirty" with uncommitted changes to tracked files). A copy of the tree
+    """The checkout's commit (short hash, "+dirty" with uncommitted changes to tracked files outside docs/, where
+    records are written). A copy of the tree
     without .git (a GPU machine's) names it in SPLATFILL_COMMIT, which benchmarks/gpu.sh passes on."""
     if os.environ.get("SPLATFILL_COMMIT"):
         return os.environ["SPLATFILL_COMMIT"]
     try:
         head = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"], capture_output=True,
                               text=True, timeout=10, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(REPO), "status", "--porcelain", "--untracked-files=no"],
+        dirty = subprocess.run(["git", "-C", str(REPO), "status", "--porcelain", "--untracked-files=no", "--", ".",
+                                ":!docs"],
                                capture_output=True, text=True, timeout=10, check=True).stdout.strip()
     except (OSError, subprocess.SubprocessError):
         return None
