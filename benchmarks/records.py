@@ -3,9 +3,11 @@ record, and the question's tables.md made from those files (docs/BENCHMARKS.md q
 
 from __future__ import annotations
 
+import argparse
 import json
 import shlex
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
@@ -37,3 +39,17 @@ def write_tables(results: Path, title: str, lines: list[str]) -> None:
     path = results / "tables.md"
     path.write_text("\n".join([f"# {title}", "", *lines, ""]))
     print(f"wrote {path}")
+
+
+def report_or_measure(parser: argparse.ArgumentParser, results: Path, report: Callable[[Path], None],
+                      measure: Callable[[argparse.Namespace], None]) -> int:
+    """The entry every record-keeping tool shares: --results DIR (default `results`) and --report, which makes
+    DIR/tables.md from the records there instead of measuring; otherwise `measure(args)` writes records."""
+    parser.add_argument("--results", default=str(results), help="the records' folder")
+    parser.add_argument("--report", action="store_true", help="make RESULTS/tables.md from its records only")
+    args = parser.parse_args()
+    if args.report:
+        report(Path(args.results))
+    else:
+        measure(args)
+    return 0

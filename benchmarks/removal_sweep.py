@@ -21,7 +21,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
 from benchmarks.records import RESULTS as ALL_RESULTS  # noqa: E402
-from benchmarks.records import load_records, provenance, save_record, write_tables  # noqa: E402
+from benchmarks.records import load_records, provenance, report_or_measure, save_record, write_tables  # noqa: E402
 
 RESULTS = ALL_RESULTS / "removal"
 
@@ -109,15 +109,8 @@ def main() -> int:
     parser.add_argument("--tolerances", type=float, nargs="*", default=[0.005, 0.01, 0.02])
     parser.add_argument("--margins", type=float, nargs="*", default=[0, 0.005, 0.02],
                         help="occluder margins to try, as fractions of the image diagonal")
-    parser.add_argument("--results", default=str(RESULTS))
     parser.add_argument("--work", help="keep the runs, removals and hole masks here (default: a temporary folder)")
-    parser.add_argument("--report", action="store_true")
-    args = parser.parse_args()
-    if args.report:
-        report(Path(args.results))
-    else:
-        run_bench(args)
-    return 0
+    return report_or_measure(parser, RESULTS, report, run_bench)
 
 
 if __name__ == "__main__":

@@ -23,7 +23,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
 from benchmarks.records import RESULTS as ALL_RESULTS  # noqa: E402
-from benchmarks.records import load_records, provenance, save_record, write_tables  # noqa: E402
+from benchmarks.records import load_records, provenance, report_or_measure, save_record, write_tables  # noqa: E402
 
 RESULTS = ALL_RESULTS / "segments"
 
@@ -106,15 +106,8 @@ def report(results: Path) -> None:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--run", nargs="*", default=[], help="training runs of generated scenes")
-    parser.add_argument("--results", default=str(RESULTS))
     parser.add_argument("--solid", type=float, help="segment --solid (default: segment's)")
-    parser.add_argument("--report", action="store_true")
-    args = parser.parse_args()
-    if args.report:
-        report(Path(args.results))
-    else:
-        run_bench(args)
-    return 0
+    return report_or_measure(parser, RESULTS, report, run_bench)
 
 
 if __name__ == "__main__":

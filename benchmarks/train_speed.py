@@ -19,7 +19,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
 from benchmarks.records import RESULTS as ALL_RESULTS  # noqa: E402
-from benchmarks.records import load_records, provenance, save_record, write_tables  # noqa: E402
+from benchmarks.records import load_records, provenance, report_or_measure, save_record, write_tables  # noqa: E402
 
 RESULTS = ALL_RESULTS / "train"
 
@@ -83,18 +83,15 @@ def main() -> int:
     parser.add_argument("--scenes", nargs="*", default=[])
     parser.add_argument("--budgets", type=int, nargs="*", default=[0, 300_000])
     parser.add_argument("--steps", type=int, default=30_000)
-    parser.add_argument("--results", default=str(RESULTS))
     parser.add_argument("--runs", help="keep the run folders here (default: a temporary folder)")
-    parser.add_argument("--report", action="store_true")
-    args = parser.parse_args()
-    if args.report:
-        report(Path(args.results))
-        return 0
+    return report_or_measure(parser, RESULTS, report, measure)
+
+
+def measure(args: argparse.Namespace) -> None:
     warm_up()
     for scene in args.scenes:
         for budget in args.budgets:
             run_one(Path(scene), budget, args.steps, Path(args.results), Path(args.runs) if args.runs else None)
-    return 0
 
 
 if __name__ == "__main__":
