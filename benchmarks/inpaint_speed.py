@@ -1,13 +1,12 @@
 """Exemplar's patch search as a correlation of the window (engine.inpaint.inpainters.exemplar._SourceSearch)
-against the unrolled source matrix it replaced, on a scene's real object regions (beside_training.py's views).
+against the unrolled source matrix it replaced, on a scene's real object regions (each view's target mask grown by
+3 px, about the direct baseline's regions), through the engine's own view loop (engine.inpaint.run._each_view).
 
     PYTHONPATH=. python benchmarks/inpaint_speed.py SCENE [VIEWS] [WORKERS,...] [--old=OLD.py]
 
 OLD.py is the previous exemplar.py (`git show b0eaac9:engine/inpaint/inpainters/exemplar.py`, saved outside the
 tree): one view at a time through it, then the new search in processes, once for each count in WORKERS (1: one
-at a time; default 1,8), and whether the fills are identical to the old ones. d1a4076's first form searched on the
-GPU where there was one (run 10's first call measured both; CUDA_VISIBLE_DEVICES= made it use the CPU); the
-search now always runs on the CPU.
+at a time; default 1,8), and whether the fills are identical to the old ones. The search always runs on the CPU.
 """
 
 from __future__ import annotations
@@ -15,14 +14,36 @@ from __future__ import annotations
 import importlib.util
 import os
 import sys
+import time
 from pathlib import Path
 
+import cv2
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).parent))
-from beside_training import _timed, _views  # noqa: E402
+from engine.formats.layout import SceneLayout
+from engine.inpaint.inpainters.exemplar import exemplar_fill
+from engine.inpaint.run import _each_view
+from engine.io.image_io import read_png
 
-from engine.inpaint.inpainters.exemplar import exemplar_fill  # noqa: E402
+
+def _views(scene: Path, count: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """`count` views spread over the scene: (image, target region grown by 3 px)."""
+    layout = SceneLayout(scene)
+    names = sorted(p.name for p in layout.images.iterdir())
+    names = names[::max(len(names) // count, 1)][:count]
+    out = []
+    for name in names:
+        target = read_png(layout.masks / name, kind="mask") == 1
+        region = cv2.dilate(target.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0
+        out.append((read_png(layout.images / name), region))
+    return out
+
+
+def _timed(views, workers: int, fill=exemplar_fill) -> tuple[float, dict[int, np.ndarray]]:
+    """Seconds for `fill` over every view, one at a time or in `workers` processes, and the fills by view."""
+    start = time.perf_counter()
+    fills = dict(_each_view(fill, views, workers, "processes" if workers > 1 else ""))
+    return time.perf_counter() - start, fills
 
 
 def _load(path: str):
