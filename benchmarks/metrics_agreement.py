@@ -8,7 +8,7 @@ measured on images, so that features do not vanish) saved as
 pt_inception-2015-12-05-6726825d.pth in a temporary TORCH_HOME, where pytorch-fid's loader finds it
 without downloading. Compared: LPIPS values and maps on smooth random image pairs; pool3 features; FID
 from pytorch-fid's calculate_frechet_distance (scipy's sqrtm) against ours (singular values), on more images
-than features so that scipy's sqrtm is well-posed. Writes docs/results/metrics/metrics_agreement.json.
+than features so that scipy's sqrtm is well-posed. Writes docs/results/cpu/metrics_agreement.json.
 """
 
 from __future__ import annotations
@@ -116,7 +116,7 @@ def scipy_frechet_distance(mu1, sigma1, mu2, sigma2) -> float:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--results", default=str(REPO / "docs" / "results" / "metrics"))
+    parser.add_argument("--results", default=str(REPO / "docs" / "results" / "cpu"))
     args = parser.parse_args()
     import torch
 
