@@ -117,7 +117,7 @@ def field_help(cls) -> dict[str, str]:
             if not isinstance(node, ast.AnnAssign) or not isinstance(node.target, ast.Name):
                 continue
             row = node.lineno
-            text = comments.get(row) if row in comments else None
+            text = comments.get(row)
             if text is None:
                 above = []
                 while row - 1 in comments and row - 1 not in code:
