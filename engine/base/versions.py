@@ -17,8 +17,8 @@ REPO = Path(__file__).resolve().parents[2]
 @functools.cache
 def code_commit() -> str | None:
     """The checkout's commit (short hash, "+dirty" with uncommitted changes to tracked files outside docs/, where
-    records are written). A copy of the tree
-    without .git (a GPU machine's) names it in SPLATFILL_COMMIT, which benchmarks/gpu.sh passes on."""
+    records are written). A copy of the tree without .git (a GPU machine's) names it in SPLATFILL_COMMIT, which
+    benchmarks/gpu.sh passes on."""
     if os.environ.get("SPLATFILL_COMMIT"):
         return os.environ["SPLATFILL_COMMIT"]
     try:
