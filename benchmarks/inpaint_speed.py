@@ -1,18 +1,18 @@
-"""Exemplar's patch search as a correlation of the window (engine.inpaint.inpainters.exemplar._SourceSearch)
-against the unrolled source matrix it replaced, on a scene's real object regions (each view's target mask grown by
-3 px, about the direct baseline's regions), through the engine's own view loop (engine.inpaint.run._each_view).
+"""Seconds per 1-megapixel view for every offline inpainter, as `inpaint` runs them (engine.inpaint.run's view
+loop, each inpainter's own parallelism), RGB and depth, on real photos with a real object's hole.
 
-    PYTHONPATH=. python benchmarks/inpaint_speed.py SCENE [VIEWS] [WORKERS,...] [--old=OLD.py]
+    PYTHONPATH=. python benchmarks/inpaint_speed.py PHOTOS RESULTS [VIEWS]
 
-OLD.py is the previous exemplar.py (`git show b0eaac9:engine/inpaint/inpainters/exemplar.py`, saved outside the
-tree): one view at a time through it, then the new search in processes, once for each count in WORKERS (1: one
-at a time; default 1,8), and whether the fills are identical to the old ones. The search always runs on the CPU.
+Each of VIEWS (default 16) photos is resized to 1 megapixel; its hole is the salient object a photo is centred
+on (engine.train.salient's u2netp map above 0.5, grown by 5 px), what a capture's hole covers; its depth a
+smooth slope. RESULTS/inpaint_speed.json: per inpainter the seconds per view (wall time over the views, workers
+and their start included), the workers and how, the mean hole in pixels; inpainters that cannot run here
+(weights or packages missing) with the reason.
 """
 
 from __future__ import annotations
 
-import importlib.util
-import os
+import json
 import sys
 import time
 from pathlib import Path
@@ -20,62 +20,83 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from engine.formats.layout import SceneLayout
-from engine.inpaint.inpainters.exemplar import exemplar_fill
-from engine.inpaint.run import _each_view
-from engine.io.image_io import read_png
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))
+from engine.base.errors import InputError  # noqa: E402
+from engine.base.versions import code_commit  # noqa: E402
+from engine.inpaint.registry import Inpainter, classes, create  # noqa: E402
+from engine.inpaint.run import InpaintConfig, _each_view, _workers  # noqa: E402
+from engine.io.masks import dilate  # noqa: E402
+
+MEGAPIXEL = 1_000_000
+OFFLINE = ("telea", "navier-stokes", "fsr", "shiftmap", "exemplar", "lama")
 
 
-def _views(scene: Path, count: int) -> list[tuple[np.ndarray, np.ndarray]]:
-    """`count` views spread over the scene: (image, target region grown by 3 px)."""
-    layout = SceneLayout(scene)
-    names = sorted(p.name for p in layout.images.iterdir())
-    names = names[::max(len(names) // count, 1)][:count]
-    out = []
-    for name in names:
-        target = read_png(layout.masks / name, kind="mask") == 1
-        region = cv2.dilate(target.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0
-        out.append((read_png(layout.images / name), region))
-    return out
+class ViewFill:
+    """One view's fill, RGB then depth, as engine.inpaint.run does (picklable for the worker processes)."""
+
+    def __init__(self, inpainter: Inpainter, holes: list[np.ndarray], depth: np.ndarray) -> None:
+        self.inpainter, self.holes, self.depth = inpainter, holes, depth
+
+    def __call__(self, image: np.ndarray, k: int) -> None:
+        self.inpainter.inpaint(image, self.holes[k], "rgb")
+        self.inpainter.inpaint(self.depth, self.holes[k], "depth")
 
 
-def _timed(views, workers: int, fill=exemplar_fill) -> tuple[float, dict[int, np.ndarray]]:
-    """Seconds for `fill` over every view, one at a time or in `workers` processes, and the fills by view."""
-    start = time.perf_counter()
-    fills = dict(_each_view(fill, views, workers, "processes" if workers > 1 else ""))
-    return time.perf_counter() - start, fills
+def views(photos: Path, count: int) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    from engine.train.salient import SalientNet
+
+    net = SalientNet()
+    files = sorted(p for p in photos.iterdir() if p.suffix.lower() in (".jpg", ".jpeg", ".png"))
+    files = [files[k] for k in np.linspace(0, len(files) - 1, min(count, len(files))).astype(int)]
+    images, holes = [], []
+    for path in files:
+        image = cv2.imread(str(path))[..., ::-1]
+        scale = (MEGAPIXEL / (image.shape[0] * image.shape[1])) ** 0.5
+        image = np.ascontiguousarray(cv2.resize(image, (round(image.shape[1] * scale), round(image.shape[0] * scale)),
+                                                interpolation=cv2.INTER_AREA))
+        images.append(image)
+        holes.append(dilate(net.probability(image) > 0.5, 5))
+    return images, holes
 
 
-def _load(path: str):
-    spec = importlib.util.spec_from_file_location("exemplar_old", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module.exemplar_fill
+def main() -> int:
+    photos, results = Path(sys.argv[1]), Path(sys.argv[2])
+    count = int(sys.argv[3]) if len(sys.argv) > 3 else 16
+    images, holes = views(photos, count)
+    h, w = images[0].shape[:2]
+    depth = np.fromfunction(lambda y, x: 2.0 + 0.001 * y + 0.0005 * x, (h, w), dtype=np.float32)
+    record = {"commit": code_commit(), "photos": photos.parent.name if photos.name == "images" else photos.name,
+              "views": len(images), "size": [w, h], "mean_hole_px": int(np.mean([m.sum() for m in holes])),
+              "gpu": _gpu(), "inpainters": {}}
+    for name in OFFLINE:
+        if name not in classes():
+            continue
+        try:
+            inpainter = create(name)
+            inpainter.inpaint(images[0][:64, :64], holes[0][:64, :64], "rgb")  # loads weights, imports packages
+        except (InputError, AttributeError, ImportError) as exc:
+            record["inpainters"][name] = {"unavailable": str(exc).splitlines()[0][:200]}
+            continue
+        workers, parallel = _workers(InpaintConfig(inpainter=name), inpainter)
+        job = ViewFill(inpainter, holes, depth)
+        start = time.perf_counter()
+        for _ in _each_view(job, [(image, k) for k, image in enumerate(images)], workers, parallel):
+            pass
+        seconds = time.perf_counter() - start
+        record["inpainters"][name] = {"seconds_per_view": round(seconds / len(images), 3), "workers": workers,
+                                      "parallel": parallel}
+        print(name, record["inpainters"][name], flush=True)
+    results.mkdir(parents=True, exist_ok=True)
+    (results / "inpaint_speed.json").write_text(json.dumps(record, indent=1))
+    return 0
 
 
-def _identical(fills: dict[int, np.ndarray], reference: dict[int, np.ndarray], views) -> float:
-    """The share of the regions' pixels that came out the same as the old search's."""
-    return float(np.mean([(fills[i] == reference[i]).all(-1)[views[i][1]].mean() for i in fills]))
+def _gpu() -> str | None:
+    import torch
 
-
-def main() -> None:
-    args = [a for a in sys.argv[1:] if not a.startswith("--old")]
-    old = next((a.split("=", 1)[1] for a in sys.argv[1:] if a.startswith("--old=")), "")
-    scene, count = Path(args[0]), int(args[1]) if len(args) > 1 else 16
-    workers = [int(n) for n in (args[2] if len(args) > 2 else "1,8").split(",")]
-    views = _views(scene, count)
-    print(f"{len(views)} views, {np.mean([r.sum() for _, r in views]):.0f} px a region, {os.cpu_count()} cores",
-          flush=True)
-    exemplar_fill(*views[0])  # the first call's set-up, outside the timings
-    reference = None
-    if old:
-        seconds, reference = _timed(views, 1, _load(old))
-        print(f"old search, one at a time: {seconds / len(views):.2f} s a view", flush=True)
-    for n in workers:
-        seconds, fills = _timed(views, n)
-        same = "" if reference is None else f", identical pixels {_identical(fills, reference, views):.4f}"
-        print(f"new search, {n} at once: {seconds / len(views):.2f} s a view{same}", flush=True)
+    return torch.cuda.get_device_name() if torch.cuda.is_available() else None
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -4,11 +4,11 @@ exact instance masks are hidden from `segment` and used only to score it.
     python benchmarks/segments.py --run RUN [--run RUN ...] --results DIR
     python benchmarks/segments.py --report [--results DIR]        # DIR/*.json -> DIR/tables.md
 
-Per run: `segment --auto` (geometry only): per ground-truth object the best proposal's mask IoU on the test
-views, the target found (IoU >= 0.5) or not, proposals that merge two objects, seconds. Then `--from-masks`
-with the training views' exact masks perturbed as a 2D tool gives them (ids shuffled per view, 10% of the
-segments split or merged): the share of segments associated to the right object, and the target's IoU on
-the test views. Engine Python; GPU for full-size runs.
+Per run: `segment --auto` (geometry and salient votes): per ground-truth object the best proposal's mask IoU
+on the test views, whether object_1 (the subject) is the target, proposals that merge two objects, seconds.
+Then `--from-masks` with the training views' exact masks perturbed as a 2D tool gives them (ids shuffled per
+view, 10% of the segments split or merged): the share of segments associated to the right object, and the
+target's IoU on the test views. Engine Python; GPU for full-size runs.
 """
 
 from __future__ import annotations
@@ -62,6 +62,8 @@ def measure(run_dir: Path, work: Path, pictures: Path, solid: float, seed: int =
               "auto": {"seconds": round(seconds, 1), "proposals": auto["objects"], "planes": auto.get("plane_heights"),
                        "solid": solid,
                        "merges": scores["merges"], "target_iou": scores["objects"][scene.target.id]["iou"],
+                       "subject": auto.get("subject"),
+                       "subject_is_target": scores["objects"][scene.target.id]["found"] == 1,
                        "objects": {names[g]: s["iou"] for g, s in scores["objects"].items()}}}
     given, owners = perturb_masks([scene.masks[i] for i in scene.train], np.random.default_rng(seed))
     for i, mask in zip(scene.train, given, strict=True):

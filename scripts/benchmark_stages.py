@@ -135,7 +135,7 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
             stages.prepare(inpainter, kind.source)
             shutil.rmtree(out.root, ignore_errors=True)  # an interrupted cell starts again
             flags = ["--method", kind.name, "--inpainter", inpainter, "--seed", str(stages.seed), "--device",
-                     args.device, *_option_flags(options)]
+                     args.device, "--no-turntable", *_option_flags(options)]  # a cell's pictures are its renders
             flags += ["--steps", str(steps)] if steps else []
             started = time.perf_counter()
             run_engine(["complete", "--run", str(stages.run.root), "--out", str(out.root), *flags])

@@ -90,7 +90,8 @@ def render_scene(config: SceneConfig, staging: Path) -> None:
     spec, rng = build_blender_scene(config)
     width, height = render.configure_cycles(config.res, config.samples, config.seed, config.threads)
     camera = render.add_camera()
-    poses = render.orbit_poses(spec.focus, spec.distance, spec.elevation, config.views, config.orbit, rng)
+    poses = render.orbit_poses(spec.focus, spec.distance, spec.elevation, config.views, config.orbit, rng,
+                               spec.arc, spec.facing)
     names = [f"{i:04d}.png" for i in range(config.views)]
     split = split_views(names)
     objects = [{"id": obj.pass_index, "name": obj.name, "target": target} for obj, target in spec.objects]

@@ -338,9 +338,9 @@ def test_recolmap_is_for_new_scenes_and_stops_cleanly_where_colmap_cannot_regist
 
 
 def test_a_cancelled_finetune_resumes_with_complete_and_keeps_its_frozen_gaussians(stages, tmp_path):
-    """SIGTERM during `complete --method ft` checkpoints and names `complete ... --resume` (which exists);
+    """SIGTERM during `complete --method ft` checkpoints and names `complete` again (or --resume);
     `train --resume` on that run refuses (it would drop the finetune's objective and frozen Gaussians);
-    `complete --resume` finishes it with the removed scene's Gaussians unchanged bit for bit."""
+    the same `complete` command finishes it with the removed scene's Gaussians unchanged bit for bit."""
     import json
     import os
     import signal
@@ -369,13 +369,39 @@ def test_a_cancelled_finetune_resumes_with_complete_and_keeps_its_frozen_gaussia
     assert train.returncode == 2 and "complete" in train.stderr and "--resume" in train.stderr
     report = run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainted=str(fsr_for_ft(stages)),
                                          removed=str(stages["removed"]), holes=str(stages["holes"]), out=str(out),
-                                         options={"perceptual": "l1"}, steps=400, device="cpu", resume=True))
+                                         options={"perceptual": "l1"}, steps=400, device="cpu",
+                                         turntable=False))  # the same command again, no --resume
     assert report["method"] == "FT-fsr(3)[l1]"
     before, after = load_ply(stages["removed"] / "point_cloud.ply"), load_ply(out / "run" / "point_cloud.ply")
     n = len(before["means"])
     assert len(after["means"]) > n
     for key, value in before.items():
         assert torch.equal(after[key][:n], value), key
+
+
+def test_a_completion_stopped_before_training_runs_again_with_the_same_command(stages, tmp_path):
+    """Stopped before its first step (its run/ made, never configured; a scene write cut short): the same
+    command starts it again, nobody deletes anything by hand. A finished one, and a folder that is not a
+    completion's, are refused with one line, and the latter is left as it was."""
+    from engine.base.errors import InputError
+    from engine.complete.run import CompleteConfig, run_complete
+
+    out = tmp_path / "init"
+    (out / "run").mkdir(parents=True)
+    (out / ".scene.tmp-999").mkdir()
+    config = CompleteConfig(run=str(stages["run"]), inpainted=str(fsr_for_ft(stages)), removed=str(stages["removed"]),
+                            out=str(out), steps=30, device="cpu", options={"warm": False}, turntable=False)
+    report = run_complete(config)
+    assert (out / "scores.json").is_file() and report["gaussians"] > 0
+    assert not list(out.glob(".*.tmp-*"))
+    with pytest.raises(InputError, match="is finished"):
+        run_complete(config)
+    other = tmp_path / "mine"
+    other.mkdir()
+    (other / "notes.txt").write_text("mine")
+    with pytest.raises(InputError, match="already exists"):
+        run_complete(CompleteConfig(**{**config.__dict__, "out": str(other)}))
+    assert [p.name for p in other.iterdir()] == ["notes.txt"]
 
 
 def test_a_warm_init_starts_from_the_removed_scene_and_trains_a_tenth_of_the_steps(stages, tmp_path):

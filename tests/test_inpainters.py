@@ -230,3 +230,27 @@ def test_nanobanana_failures_end_in_one_line_errors(monkeypatch):
                                                         prompt="x")
     with pytest.raises(InputError, match="cannot reach http://127.0.0.1:9"):
         create("nanobanana", base_url="http://127.0.0.1:9").inpaint(TEXTURE, None, prompt="Remove the mug.")
+
+
+def test_a_real_size_hole_is_filled_downscaled_and_keeps_its_texture_at_full_size():
+    """A hole of 40,000 px (a photo's object footprint) is filled at a coarse scale (engine.inpaint.coarse):
+    the exemplar's patches are copied again at full size, so a 4-px checkerboard comes back crisp (each filled
+    pixel one of the board's two values) where an upsampled fill would blur it into grey; FSR's fill of a gradient
+    stays as close as Telea's full-size one (mean absolute error measured: FSR downscaled 11.6, FSR at full
+    size 9.4 in nine times the time, Telea 10.3)."""
+    from engine.inpaint.coarse import coarse_view
+    from engine.inpaint.inpainters.exemplar import MAX_HOLE_PX
+
+    y, x = np.mgrid[:400, :500]
+    board = np.stack([((y // 4 + x // 4) % 2) * 200 + 20] * 3, -1).astype(np.uint8)
+    hole = np.zeros((400, 500), bool)
+    hole[100:300, 150:350] = True
+    assert coarse_view(hole, MAX_HOLE_PX).scale >= 2
+    filled = create("exemplar").inpaint(board, hole)
+    crisp = np.isin(filled[hole][:, 0], (20, 220)).mean()
+    assert crisp > 0.9, crisp
+    assert (filled[~hole] == board[~hole]).all()
+    ramp = np.stack([x * 0.4 + y * 0.2 + 20] * 3, -1).astype(np.uint8)
+    error = {name: np.abs(create(name).inpaint(ramp, hole)[hole].astype(int) - ramp[hole]).mean()
+             for name in ("fsr", "telea")}
+    assert error["fsr"] < 1.3 * error["telea"], error

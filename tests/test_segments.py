@@ -18,6 +18,7 @@ from engine.metrics.segment_scores import association_accuracy, iou, perturb_mas
 from engine.train.proposals import components, split_pieces, voxel_components
 from engine.train.segments import SegmentConfig, lift_masks, run_segment
 from engine.train.trained_run import load_run, load_run_scene
+from tests.conftest import setup_weight
 
 
 @pytest.fixture
@@ -83,15 +84,17 @@ def test_a_box_and_selected_indices_add_named_objects(run_copy: Path, tmp_path: 
 
 
 def test_auto_finds_the_target_without_masks(run_copy: Path, tmp_path: Path):
-    """Geometry alone (no masks read): the target's best proposal covers it on the test views."""
+    """Geometry and salient-object votes (no masks read): object_1, the subject, is the target on the test
+    views, and removing it by that name removes it."""
     scene = load_run_scene(run_copy)
-    report = run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), auto=True, device="cpu"))
+    config = SegmentConfig(run=str(run_copy), auto=True, device="cpu", salient_weights=str(setup_weight("u2netp.onnx")))
+    report = run_segment(load_run(run_copy), config)
     found = load_run_scene(run_copy)
     scores = proposal_scores([found.masks[i] for i in scene.test], [scene.masks[i] for i in scene.test],
                              [o.id for o in scene.objects])
-    assert report["planes"] >= 1 and scores["objects"][scene.target.id]["iou"] >= 0.6, scores
-    best = scores["objects"][scene.target.id]["found"]
-    removal = run_removal(RemovalConfig(run=str(run_copy), object=str(best), out=str(tmp_path / "r"), device="cpu"))
+    target = scores["objects"][scene.target.id]
+    assert report["subject"] == "votes" and target["found"] == 1 and target["iou"] >= 0.6, (report, scores)
+    removal = run_removal(RemovalConfig(run=str(run_copy), object="object_1", out=str(tmp_path / "r"), device="cpu"))
     assert removal["removed"] > 0
 
 

@@ -50,3 +50,17 @@ def test_a_single_frame_is_a_video_too(tmp_path: Path):
     out = tmp_path / "one.mp4"
     assert main(["video", "--frames", str(frames(tmp_path / "f", 1)), "--out", str(out)]) == 0
     assert count_frames(out) == 1
+
+
+def test_without_imageio_ffmpeg_opencv_writes_the_mp4(tmp_path: Path, monkeypatch):
+    """A machine with only opencv-python (the GPU machine has no imageio-ffmpeg): MPEG-4 Part 2 through
+    OpenCV's FFmpeg, the same frames decoded again."""
+    from engine.pictures import video
+
+    monkeypatch.setattr(video, "has_ffmpeg", lambda: False)
+    out = video.write_mp4(sorted(frames(tmp_path / "f", 10).glob("*.png")), tmp_path / "cv.mp4", 10)
+    assert count_frames(out) == 10
+    capture = cv2.VideoCapture(str(out))
+    capture.read()
+    ok, second = capture.read()
+    assert ok and second[20, 6:18].mean() > 180 and second[20, 40:60].mean() < 60

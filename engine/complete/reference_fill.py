@@ -32,6 +32,7 @@ from engine.io.masks import dilate
 
 MAX_JUDGES = 24  # views choosing the reference: 24 x 23 carries, 0.4-0.8 s at 320x240 (all 43: 1.4-2.4 s, same picks)
 GAP_PX = 2  # splat gaps closed, px: a view seeing the surface up to 2x larger than the reference (more: own fill)
+ROW = 4096  # points per row of a remap grid (cv2.remap's maps stay under 32767 px a side)
 BIG = 3.0e38  # float32 stand-in for 'no surface' in the gap closing
 REL_TOL = 0.1  # a point this far from the view's own depth fill is something else (two fills of one surface
 # differ by a few per cent; an occluder in front of it by far more)
@@ -90,11 +91,24 @@ def carry_fill(camera: Camera, hole: np.ndarray, depth: np.ndarray, image: np.nd
     rows, cols, u, v = rows[inside], cols[inside], u[inside], v[inside]
     out, carried = image.copy(), np.zeros(hole.shape, bool)
     if len(rows):
-        colours = cv2.remap(ref_image, (u - 0.5).astype(np.float32)[None], (v - 0.5).astype(np.float32)[None],
-                            cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)[0]
-        out[rows, cols] = colours.reshape(len(rows), -1).astype(image.dtype)
+        out[rows, cols] = sample_bilinear(ref_image, u - 0.5, v - 0.5).astype(image.dtype)
         carried[rows, cols] = True
     return out, carried
+
+
+def sample_bilinear(image: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """`image` (H, W[, C]) read bilinearly at the pixel coordinates (x, y), edges replicated: (N[, C]).
+
+    cv2.remap does it, but its maps are an image whose sides must stay under 32767 px: a point list laid out
+    as one row crashed on a real capture's hole of 50,000 pixels, so the points are laid out in rows of
+    `ROW` here, whatever their number."""
+    count = len(x)
+    rows = -(-count // ROW)
+    grid = np.zeros((2, rows * ROW), np.float32)
+    grid[0, :count], grid[1, :count] = x, y
+    read = cv2.remap(image, grid[0].reshape(rows, ROW), grid[1].reshape(rows, ROW), cv2.INTER_LINEAR,
+                     borderMode=cv2.BORDER_REPLICATE)
+    return read.reshape(rows * ROW, *image.shape[2:])[:count]
 
 
 def consensus_fill(fills: dict[int, ViewFill], r: int) -> np.ndarray:

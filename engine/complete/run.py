@@ -4,9 +4,11 @@ Every method runs through this one loop: its training scene is written as a fold
 RUN/complete/<Name>/scene (engine.complete.training_scene, atomically); RUN/complete/<Name>/run is an
 ordinary training run with the method's settings and Trainer plug-ins; renders/ holds its test views; and
 scores.json, written last and atomically, holds engine.metrics.scores on the test views beside the same
-metrics for the removed-but-unfilled scene. What differs between methods lives in their plug-in files
-(engine.complete.methods, found through engine.complete.registry). An interrupted completion continues
-with the same command plus --resume.
+metrics for the removed-but-unfilled scene (reference-free on a capture without gt/, engine.complete.scoring);
+turntable/turntable.mp4 shows the scene before and after. What differs between methods lives in their plug-in
+files (engine.complete.methods, found through engine.complete.registry). A stopped completion continues when the
+same command runs again (or with --resume): from its last checkpoint, from its written training scene, or from
+the start where it stopped before either existed.
 """
 
 from __future__ import annotations
@@ -14,8 +16,10 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import shutil
 import time
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import torch
 
@@ -48,7 +52,8 @@ class CompleteConfig:
     lpips_backbone: str = ""  # alexnet-owt-7be5be79.pth for LPIPS (default LPIPS_BACKBONE or torch's hub cache)
     lpips_heads: str = ""  # lpips' weights/v0.1/alex.pth (default: from the installed lpips package)
     fid_weights: str = ""  # FID Inception weights (default FID_INCEPTION or the set-up's .weights/)
-    resume: bool = False  # continue the interrupted completion in --out (or the default folder)
+    resume: bool = False  # continue the stopped completion in --out (running the same command again does too)
+    turntable: bool = True  # write turntable/turntable.mp4, the scene before and after, around the object
     options: dict = field(default_factory=dict)  # the method's own options (engine.complete.registry)
 
 
@@ -98,7 +103,7 @@ def run_complete(config: CompleteConfig) -> dict:
     start = time.perf_counter()
     # where a cell's own time goes, seconds by phase (a benchmark matrix's time is mostly its cells)
     clock = {"load": start - loading}
-    if config.resume:  # the training scene is there already, with the report of its making
+    if out.scene.root.is_dir():  # a stopped run's training scene, with the report of its making
         colmap = json.loads(out.recolmap_json.read_text()) if out.recolmap_json.is_file() else None
     else:
         keep = job.method.keep_regions(job)
@@ -113,8 +118,8 @@ def run_complete(config: CompleteConfig) -> dict:
                                    scene=str(out.scene.root), out=str(out.run.root), seed=config.seed,
                                    device=config.device, resolution=1)  # the scene is written at the run's size
     settings, plugins = job.method.setup(job, settings)
-    metrics = train(settings, resume=config.resume, plugins=plugins,
-                    resume_hint="the same `python -m engine complete` command and --resume")
+    metrics = train(settings, resume=out.run.config_json.is_file(), plugins=plugins,
+                    resume_hint="the same `python -m engine complete` command (or with --resume)")
     seconds = time.perf_counter() - start
     clock["train"] = seconds - clock["scene"]
     clock["train_loop"] = float(metrics.get("train_seconds", 0.0))
@@ -135,14 +140,7 @@ def _job(config: CompleteConfig) -> CompletionJob:
             raise InputError(f"{path} missing: run `python -m engine {command} --run {run.root}` first")
     name = method.title(config.inpainter, options)
     out = CompleteLayout(config.out) if config.out else run.complete(name)
-    if config.resume:
-        if not out.scene.root.is_dir() or not out.run.config_json.is_file():
-            raise InputError(f"nothing to resume in {out.root} (its training never started): delete it and run "
-                             "the command without --resume")
-        if out.scores_json.is_file():
-            raise InputError(f"{out.root} is finished ({out.scores_json.name} exists): nothing to resume")
-    else:
-        check_new_output(out.root)
+    _prepare_restart(out, config.resume)
     job = CompletionJob(config=config, method=method, options=options, original=original, removed=removed,
                         inpainted=inpainted, holes=HolesLayout(config.holes) if config.holes else run.holes,
                         out=out, device=pick_device(config.device))
@@ -150,23 +148,62 @@ def _job(config: CompleteConfig) -> CompletionJob:
     return job
 
 
+OWN_NAMES = {"scene", "run", "renders", "turntable", "recolmap.json"}  # what `complete` writes in its folder
+
+
+def _prepare_restart(out: CompleteLayout, resume: bool) -> None:
+    """Make `out` ready for a new or a stopped completion: a finished one (scores.json) is refused; a stopped
+    one keeps its training scene (written atomically, so whole or absent) and its training run if that started
+    (train resumes it from the newest checkpoint); renders, a turntable and a run that never wrote its
+    config.json are redone. A folder holding anything `complete` does not write is refused, never emptied."""
+    if out.scores_json.is_file():
+        raise InputError(f"{out.root} is finished ({out.scores_json.name} exists): name a new --out to run it again")
+    if not out.root.is_dir() or not any(out.root.iterdir()):
+        if resume:
+            raise InputError(f"nothing to resume in {out.root}: run the command without --resume")
+        return
+    foreign = [p.name for p in out.root.iterdir() if p.name not in OWN_NAMES and not p.name.startswith(".")]
+    if foreign:
+        check_new_output(out.root)  # not a completion's folder: refuse, naming it
+    if not out.run.config_json.is_file():
+        shutil.rmtree(out.run.root, ignore_errors=True)  # stopped before its first step: nothing to keep
+    for partial in (out.renders, out.root / "turntable", *out.root.glob(".*.tmp-*")):
+        shutil.rmtree(partial, ignore_errors=True)  # redone; an atomic write cut short
+    emit("restart", stage="complete", out=str(out.root), scene=out.scene.root.is_dir(),
+         training=out.run.config_json.is_file())
+
+
+def _turntable(job: CompletionJob) -> Path | None:
+    """The before/after turntable around the removed object (engine.pictures.turntable), or None when off."""
+    if not job.config.turntable:
+        return None
+    from engine.pictures.turntable import TurntableConfig, make_turntable
+
+    return make_turntable(TurntableConfig(run=str(job.original.layout.root), removed=str(job.removed.root),
+                                          out=str(job.out.root / "turntable"), after=str(job.out.run.point_cloud),
+                                          device=str(job.device)))
+
+
 def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | None, clock: dict) -> dict:
     config, out = job.config, job.out
     start = time.perf_counter()
     scorer = Scorer(ScoreConfig(lpips_backbone=config.lpips_backbone, lpips_heads=config.lpips_heads,
                                 fid_weights=config.fid_weights, device=str(job.device)))
-    scores = score_run(out.run.root, scorer, renders=out.renders, scene=job.original.scene)
+    scores = score_run(out.run.root, scorer, renders=out.renders, scene=job.original.scene, removed=job.removed)
     baseline = score_removed(job.original.scene, job.removed, scorer)
     name = job.method.title(config.inpainter, job.options)
     settings = {k: v for k, v in dataclasses.asdict(config).items() if k != "options"} | job.options
     settings["steps"] = metrics.get("steps") or config.steps  # what it trained, where --steps 0 left it to the method
     clock["score"] = time.perf_counter() - start
-    report = {"method": name, "config": settings, "seconds": round(seconds, 1),
+    video = _turntable(job)
+    report = {"method": name, "out": str(out.root), "config": settings, "seconds": round(seconds, 1),
               "phases": {k: round(v, 2) for k, v in clock.items()},
               "gaussians": metrics["gaussians"], "scores": scores.values, "unavailable": scores.unavailable,
-              "removed_scores": baseline.values, "recolmap": colmap}
+              "removed_scores": baseline.values, "recolmap": colmap,
+              "turntable": video and str(video.relative_to(out.root))}
     partial = out.root / ".scores.json.tmp"
     partial.write_text(json.dumps(report, indent=1))
     partial.replace(out.scores_json)  # written last: a folder with scores.json is a finished cell
-    emit("done", stage="complete", method=name, out=str(out.root), m_psnr=report["scores"]["m_psnr"])
+    emit("done", stage="complete", method=name, out=str(out.root), m_psnr=report["scores"]["m_psnr"],
+         psnr_outside=report["scores"].get("psnr_outside"))
     return report

@@ -1,5 +1,11 @@
-"""Scores of a completed run, or of the removed-but-unfilled scene, on the test views against gt/ inside
-the scene's holes/ (engine.metrics.scores does the measuring)."""
+"""Scores of a completed run, or of the removed-but-unfilled scene, on the test views: against gt/ inside the
+scene's holes/ where a generated scene has them (engine.metrics.scores does the measuring), else the
+reference-free numbers a user's capture allows.
+
+A capture has no picture of the scene without the object, so nothing can say how right the fill is. What
+can be measured is whether the rest of the scene survived: PSNR against the input photos outside the
+object's region and its effects (the removal's masks/ and effects/, grown by `OUTSIDE_MARGIN` px), where
+the object never was (`psnr_outside`). Every other column is None with the reason."""
 
 from __future__ import annotations
 
@@ -8,43 +14,80 @@ from pathlib import Path
 import numpy as np
 
 from engine.base.device import pick_device
-from engine.base.errors import InputError
 from engine.formats.layout import RemovedLayout
 from engine.io.image_io import read_png, write_png
+from engine.io.masks import dilate
 from engine.io.scene import Scene
+from engine.metrics.image_metrics import psnr_from_mse
 from engine.metrics.scores import Scorer, Scores
 from engine.render.render_views import render_pictures
 from engine.train.trained_run import load_run, load_splats
 
-
-def _test_sets(scene: Scene) -> tuple[list[int], list[np.ndarray], list[np.ndarray]]:
-    views = [i for i in scene.test if i in scene.gt_images and i in scene.holes]
-    if not views:
-        raise InputError(f"{scene.root} has no test views with gt/ and holes/: scores need a generated scene")
-    return views, [scene.gt_images[i] for i in views], [scene.holes[i] for i in views]
+OUTSIDE_MARGIN = 8  # px around the object's region and effects left out of psnr_outside (soft edges, blur)
+NO_GT = "no gt/: a capture has no picture without the object (psnr_outside is the reference-free score)"
 
 
-def score_run(run_dir: Path, scorer: Scorer, renders: Path | None = None, scene: Scene | None = None) -> Scores:
-    """Scores of a trained run's test renders against its scene's gt/, masked by holes/; the renders are
-    saved under `renders` when given (the benchmark's side-by-side pictures read them). `scene`: the test
-    views' cameras, gt/ and holes/ when the caller holds them already (a completion's training scene copies
-    the original's), so the run's scene is not read from disk a third time in one cell."""
+def has_truth(scene: Scene) -> bool:
+    """Whether every test view has gt/ and holes/ (a generated scene): the full scores apply."""
+    return bool(scene.test) and all(i in scene.gt_images and i in scene.holes for i in scene.test)
+
+
+def score_run(run_dir: Path, scorer: Scorer, renders: Path | None = None, scene: Scene | None = None,
+              removed: RemovedLayout | None = None) -> Scores:
+    """Scores of a trained run's test renders (against gt/ and holes/, or reference-free against the input
+    photos outside `removed`'s regions); the renders are saved under `renders` when given (the benchmark's
+    side-by-side pictures read them). `scene`: the test views' cameras, gt/ and holes/ when the caller holds
+    them already (a completion's training scene copies the original's), so the run's scene is not read from
+    disk a third time in one cell."""
     if scene is None:
         run = load_run(run_dir)
         scene, gaussians, sh_degree = run.scene, run.gaussians, run.sh_degree
     else:
         gaussians, sh_degree = load_splats(run_dir)
-    views, truths, holes = _test_sets(scene)
+    views = scene.test
     pictures = [p.rgb for p in render_pictures(gaussians, [scene.cameras[i] for i in views], sh_degree,
                                                pick_device(scorer.config.device), depth=False)]
     if renders is not None:
         for i, rgb in zip(views, pictures, strict=True):
             write_png(renders / scene.cameras[i].name, rgb)
-    return scorer.score(pictures, truths, holes)
+    return _scores(scene, views, pictures, scorer, removed)
 
 
 def score_removed(scene: Scene, removed: RemovedLayout, scorer: Scorer) -> Scores:
     """The same scores for the removed-but-unfilled scene's renders (the floor every method must beat)."""
-    views, truths, holes = _test_sets(scene)
+    views = scene.test
     renders = [read_png(removed.images / scene.cameras[i].name, size=scene.cameras[i].size) for i in views]
-    return scorer.score(renders, truths, holes)
+    return _scores(scene, views, renders, scorer, removed)
+
+
+def _scores(scene: Scene, views: list[int], pictures: list[np.ndarray], scorer: Scorer,
+            removed: RemovedLayout | None) -> Scores:
+    if has_truth(scene):
+        return scorer.score(pictures, [scene.gt_images[i] for i in views], [scene.holes[i] for i in views])
+    outside = [None if removed is None else ~_object_pixels(removed, scene, i) for i in views]
+    return reference_free(pictures, [scene.images[i] for i in views], outside)
+
+
+def _object_pixels(removed: RemovedLayout, scene: Scene, i: int) -> np.ndarray:
+    """The removed object's region and its effects in view i, grown by OUTSIDE_MARGIN."""
+    camera = scene.cameras[i]
+    region = np.zeros((camera.height, camera.width), bool)
+    for path in (removed.masks / camera.name, removed.effects.mask(camera.name)):
+        if path.is_file():
+            region |= read_png(path, "mask", camera.size) > 0
+    return dilate(region, OUTSIDE_MARGIN)
+
+
+def reference_free(renders: list[np.ndarray], photos: list[np.ndarray], outside: list[np.ndarray | None]) -> Scores:
+    """PSNR of each render against its input photo over the pixels `outside` the object (all pixels where
+    None), averaged over the views; the ground-truth columns None with the reason."""
+    values: list[float] = []
+    for render, photo, keep in zip(renders, photos, outside, strict=True):
+        keep = np.ones(render.shape[:2], bool) if keep is None else keep
+        if keep.any():
+            diff = (render.astype(np.float64) - photo) / 255.0
+            values.append(psnr_from_mse(float((diff[keep] ** 2).mean())))
+    keys = ("psnr", "ssim", "m_psnr", "m_ssim", "lpips", "m_lpips", "st_lpips", "m_st_lpips", "fid", "kid",
+            "m_fid", "m_kid")
+    result = {k: None for k in keys} | {"psnr_outside": float(np.mean(values)) if values else None}
+    return Scores(values=result, unavailable={k: NO_GT for k in keys})

@@ -100,6 +100,25 @@ class SceneLayout(Views):
 
 
 @dataclass(frozen=True)
+class CaptureLayout(SceneLayout):
+    """`capture`'s output: a scene (images/, sparse/0/) made from photos, with how it was made."""
+
+    @property
+    def config_json(self) -> Path:
+        return self.root / "config.json"
+
+    @property
+    def report(self) -> Path:
+        """Written last: a folder with capture.json is a finished capture."""
+        return self.root / "capture.json"
+
+    @property
+    def work(self) -> Path:
+        """SfM's database and the phases finished, while the capture runs (removed when it is done)."""
+        return self.root / ".sfm"
+
+
+@dataclass(frozen=True)
 class RendersLayout(_Folder):
     """make_scene.py's raw renders, which `python -m engine build-scene` turns into a scene folder:
     multi-part EXRs of every view with the target (with/) and of the ground-truth views without it

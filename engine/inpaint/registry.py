@@ -25,6 +25,7 @@ import numpy as np
 
 from engine.base.errors import InputError
 from engine.base.plugins import Needs, load_plugin_files
+from engine.inpaint.coarse import fill_coarse
 from engine.inpaint.depth_range import decode_depth, encode_depth
 
 _REGISTRY: dict[str, type[Inpainter]] = {}
@@ -46,6 +47,7 @@ class Inpainter:
     summary: ClassVar[str] = ""
     needs: ClassVar[Needs] = Needs()
     uses_mask: ClassVar[bool] = True  # False: paints the object out of the original image from a prompt
+    max_hole_px: ClassVar[int] = 0  # a larger hole is filled downscaled (engine.inpaint.coarse); 0: never
 
     def parallel_views(self) -> str:
         """How a run may inpaint several views at once: "threads" for CPU work that lets go of Python's lock
@@ -70,7 +72,8 @@ class Inpainter:
         if not mask.any():
             return image.copy()
         if kind == "rgb":
-            filled = self.inpaint_rgb(np.ascontiguousarray(image, dtype=np.uint8), mask, prompt)
+            filled = fill_coarse(lambda im, m: self.inpaint_rgb(im, m, prompt),
+                                 np.ascontiguousarray(image, dtype=np.uint8), mask, self.max_hole_px)
         elif kind == "depth":
             filled = self.inpaint_depth(np.asarray(image, dtype=np.float32), mask, prompt)
         else:
@@ -82,7 +85,8 @@ class Inpainter:
 
     def inpaint_depth(self, depth: np.ndarray, mask: np.ndarray, prompt: str | None) -> np.ndarray:
         grey, near, far = encode_depth(depth, mask, self.depth_range)
-        filled = self.inpaint_grey(np.repeat(grey[..., None], 3, axis=2), mask, prompt)
+        filled = fill_coarse(lambda im, m: self.inpaint_grey(im, m, prompt), np.repeat(grey[..., None], 3, axis=2),
+                             mask, self.max_hole_px)
         return decode_depth(filled.mean(axis=2), near, far)
 
     def inpaint_grey(self, grey: np.ndarray, mask: np.ndarray, prompt: str | None) -> np.ndarray:

@@ -1,5 +1,6 @@
-"""Level planes (floor, table top) among 3D points, given the scene's up direction: what the hole masks'
-support (engine.edit.support_plane) and the object proposals (engine.train.proposals) both stand on."""
+"""Planes among 3D points: level ones (floor, table top), given the scene's up direction, which the hole masks'
+support (engine.edit.support_plane) and the object proposals (engine.train.proposals) both stand on; and
+those of any other orientation (a wall, a shelf's back), which objects hang on or are mounted to."""
 
 from __future__ import annotations
 
@@ -90,4 +91,27 @@ def support_planes(points: np.ndarray, up: np.ndarray, tol: float, share: float,
                 and not any(abs(centre + d) < 2 * tol for _, d in planes)):
             planes.append((normal, -centre))
         left &= ~(on | seed)
+    return planes
+
+
+def tilted_planes(points: np.ndarray, up: np.ndarray, tol: float, share: float, min_radius: float, most: int = 3,
+                  seed: int = 0) -> list[tuple[np.ndarray, float]]:
+    """Planes that are not level (their normal more than MAX_TILT_DEG from `up`: walls, slopes), each holding
+    at least `share` of `points` within `tol` and spread at least `min_radius` around its centre; fullest
+    first, each one's points leaving before the next is looked for."""
+    need = max(share * len(points), 50)
+    left, planes = np.ones(len(points), bool), []
+    for k in range(2 * most):
+        if len(planes) == most or left.sum() < need:
+            break
+        plane = fit_plane(points[left], tol, seed=seed + k, tries=600, min_share=need / max(left.sum(), 1))
+        if plane is None:
+            break
+        normal, offset = plane
+        on = left & (np.abs(points @ normal + offset) < tol)
+        held = points[on]
+        spread = np.median(np.linalg.norm(held - held.mean(0), axis=1)) if len(held) else 0.0
+        if abs(normal @ up) < np.cos(np.radians(MAX_TILT_DEG)) and spread >= min_radius:
+            planes.append((normal, offset))
+        left &= ~on
     return planes

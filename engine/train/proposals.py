@@ -2,8 +2,10 @@
 
 What a capture's cameras tell: what they look at (the point nearest every optical axis), how far away it is
 (the orbit radius R, the scene's scale whatever SfM chose) and which way is up (their mean up vector).
-Objects are what rests on a support surface there: the dense horizontal planes (floor, table top, slab) are
-found from the Gaussians' heights and refined by least squares; the solid Gaussians off those planes, above
+Objects are what rests on a support surface there or hangs on one: the dense horizontal planes (floor, table
+top, slab) are found from the Gaussians' heights and refined by least squares, then the dense planes of other
+orientations (walls) by RANSAC, so that an object mounted on a wall comes apart from it; the solid Gaussians
+off those planes, above
 the lowest one and within the orbit, are split into objects by 3D connectivity on a voxel grid (voxel
 `voxel` x R, or their median spacing where the reconstruction is sparser); pieces as wide as the orbit
 (walls, the table's rim) stay background. A piece is that wide also where a sparse or short reconstruction
@@ -23,7 +25,7 @@ import torch
 
 from engine.base.knn import knn
 from engine.formats.cameras import Camera, mean_up
-from engine.io.planes import support_planes
+from engine.io.planes import support_planes, tilted_planes
 
 NEIGHBOURS = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
                        if (i, j, k) > (0, 0, 0)])  # half of the 26-neighbourhood: each pair of voxels once
@@ -133,25 +135,48 @@ def _codes(keys: np.ndarray) -> np.ndarray:
     return (shifted[:, 0] << 42) | (shifted[:, 1] << 21) | shifted[:, 2]
 
 
+@dataclass
+class Supports:
+    """What objects stand on or hang from: level planes and tilted ones (walls), and per Gaussian whether it
+    lies within the orbit (`near`) and is free of them (`free`: near, off every plane, above the lowest level
+    one)."""
+
+    planes: list[tuple[np.ndarray, float]]
+    walls: list[tuple[np.ndarray, float]]
+    near: np.ndarray
+    free: np.ndarray
+
+
+def find_supports(means: np.ndarray, opacity: np.ndarray, frame: Frame, config: ProposalConfig) -> Supports:
+    r, tol = frame.radius, config.plane_tol * frame.radius
+    offset = means - frame.center
+    horizontal = np.linalg.norm(offset - np.outer(offset @ frame.up, frame.up), axis=1)
+    near = horizontal <= config.orbit * r
+    solid = near & (opacity >= config.solid)
+    planes = support_planes(means[solid], frame.up, tol, config.plane_share, config.plane_radius * r)
+    on_level = (np.abs(_plane_heights(means, planes)) < tol).any(1)
+    walls = tilted_planes(means[solid & ~on_level], frame.up, tol, config.plane_share, config.plane_radius * r)
+    free = near & ~on_level & (np.abs(_plane_heights(means, walls)) >= tol).all(1)
+    if planes:
+        free &= means @ frame.up > min(-d for _, d in planes) + tol
+    return Supports(planes, walls, near, free)
+
+
 def propose(means: np.ndarray, opacity: np.ndarray, cameras: list[Camera], config: ProposalConfig
             ) -> tuple[np.ndarray, dict]:
     """(N,) proposal id per Gaussian (0 = background, ids in no order) and what was found."""
     frame = camera_frame(cameras)
     r = frame.radius
-    offset = means - frame.center
-    horizontal = np.linalg.norm(offset - np.outer(offset @ frame.up, frame.up), axis=1)
-    near = horizontal <= config.orbit * r
+    support = find_supports(means, opacity, frame, config)
+    planes, walls, near = support.planes, support.walls, support.near
     solid = near & (opacity >= config.solid)
     tol = config.plane_tol * r
-    planes = support_planes(means[solid], frame.up, tol, config.plane_share, config.plane_radius * r)
     heights = _plane_heights(means, planes)
-    candidate = near & (np.abs(heights) >= tol).all(1)
-    if planes:
-        candidate &= means @ frame.up > min(-d for _, d in planes) + tol
+    candidate = support.free
     ids = np.zeros(len(means), np.int64)
     seeds = np.flatnonzero(candidate & solid)
     if len(seeds) == 0:
-        return ids, {"planes": len(planes), "proposals": 0, "radius": r}
+        return ids, {"planes": len(planes), "walls": len(walls), "proposals": 0, "radius": r}
     size = max(config.voxel * r, spacing(means[seeds]))  # a sparse reconstruction needs coarser voxels
     bands = [tol * (1 + k) for k in range(config.peel + 1)] if planes else [tol]
     ids[seeds], peeled = split_pieces(means[seeds], heights[seeds], bands, size, config.stack_gap * size,
@@ -163,7 +188,8 @@ def propose(means: np.ndarray, opacity: np.ndarray, cameras: list[Camera], confi
         close = (near_anchor[:, 0] <= 2 * size).numpy()
         ids[joining[close]] = ids[anchors][nearest[close, 0].numpy()]
     levels = sorted(round(float(-d - frame.center @ n) / r, 3) for n, d in planes)
-    return ids, {"planes": len(planes), "plane_heights": levels, "radius": round(r, 4), "voxel": round(size, 5),
+    return ids, {"planes": len(planes), "walls": len(walls), "plane_heights": levels, "radius": round(r, 4),
+                 "voxel": round(size, 5),
                  "proposals": int(len(np.unique(ids)) - (ids == 0).any())}
 
 

@@ -11,8 +11,9 @@ background), objects.json (id, name, 3D box, Gaussians) and per-view instance-id
   that most of its Gaussians already belong to (at least `join`), else it starts a new one; each Gaussian
   finally takes the object it was seen in most often (id 0, unlabelled, counts as background). Training-free:
   seconds.
-- automatic (`--auto`): proposals from the geometry alone (engine.train.proposals): what rests on the
-  capture's support planes, split by 3D connectivity.
+- automatic (`--auto`): proposals from the geometry (engine.train.proposals): what rests on or hangs from the
+  capture's support planes, split by 3D connectivity; then the subject, the object the capture is about, from
+  salient-object votes across views (engine.train.saliency_votes), named object_1.
 - from a selection (`--box`, or `--indices` for the proxy points a user selected in Blender): those
   Gaussians become one more object beside those found so far.
 
@@ -39,7 +40,7 @@ from engine.base.progress import emit
 from engine.formats.cameras import Camera, project, sample_nearest
 from engine.formats.checks import read_json
 from engine.formats.layout import SegmentsLayout
-from engine.formats.splat_ply import IDENTITY_DIM
+from engine.formats.splat_ply import IDENTITY_DIM, SH_C0
 from engine.io.extent import bounding_box, inside_box
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import read_png, write_png
@@ -47,14 +48,16 @@ from engine.io.scene import Scene, SceneObject
 from engine.pictures.preview import colorize_ids, label
 from engine.render.rasterize import CameraTensors, render
 from engine.render.render_views import render_depths
-from engine.train.proposals import ProposalConfig, propose
+from engine.train.proposals import ProposalConfig, camera_frame, find_supports, propose
+from engine.train.saliency_votes import VoteConfig, salient_votes, subject, voting_views
+from engine.train.salient import SalientNet
 
 MAX_OBJECTS = IDENTITY_DIM - 1
 SHARPNESS = 20.0  # classifier logit for a Gaussian's own object: softmax ~1, so removal's threshold holds
 
 
 @dataclass
-class SegmentConfig(ProposalConfig):
+class SegmentConfig(VoteConfig, ProposalConfig):
     run: str = ""  # the training run
     auto: bool = False  # proposals from the geometry alone (engine.train.proposals)
     from_masks: str = ""  # a folder of per-view instance-id PNGs named like the images (0 = unlabelled)
@@ -121,10 +124,15 @@ def _mode(codes: np.ndarray, n: int, stride: int) -> np.ndarray:
     return ids
 
 
-def renumber(ids: np.ndarray, min_gaussians: int) -> np.ndarray:
-    """Objects by size, largest first, as 1..K (K <= MAX_OBJECTS); small or surplus ones become background."""
+def renumber(ids: np.ndarray, min_gaussians: int, first: int | None = None) -> np.ndarray:
+    """Objects by size, largest first, as 1..K (K <= MAX_OBJECTS), `first` (the subject) before all;
+    small or surplus ones become background."""
     sizes = np.bincount(ids)
-    order = [i for i in np.argsort(-sizes, kind="stable") if i != 0 and sizes[i] >= min_gaussians][:MAX_OBJECTS]
+    order = [i for i in np.argsort(-sizes, kind="stable") if i != 0 and sizes[i] >= min_gaussians]
+    if first is not None and first in order:
+        order.remove(first)
+        order.insert(0, first)
+    order = order[:MAX_OBJECTS]
     table = np.zeros(len(sizes), np.int64)
     table[order] = np.arange(1, len(order) + 1)
     return table[ids]
@@ -169,9 +177,16 @@ def run_segment(run, config: SegmentConfig) -> dict:
     if config.adds:
         ids, objects, stats = _add_selection(run, means, config)
     else:
-        ids, stats = _from_masks(run, means, config, device) if config.from_masks else \
-            propose(means, torch.sigmoid(run.gaussians["opacities"]).numpy(), run.scene.cameras, config)
-        ids = renumber(ids, config.min_gaussians)
+        first = None
+        if config.from_masks:
+            ids, stats = _from_masks(run, means, config, device)
+        else:
+            opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
+            ids, stats = propose(means, opacity, run.scene.cameras, config)
+            if config.salient:
+                ids, first, votes = _salient_subject(run, ids, opacity >= config.solid, config, stats, device)
+                stats.update(votes)
+        ids = renumber(ids, config.min_gaussians, first)
         objects = [SceneObject(int(i), f"object_{i}", False) for i in range(1, int(ids.max(initial=0)) + 1)]
     if not objects:
         raise InputError(f"no object found in {run.root} ({stats}): check the masks (0 = unlabelled), or "
@@ -203,6 +218,30 @@ def _from_masks(run, means: np.ndarray, config: SegmentConfig, device: torch.dev
     cameras = [scene.cameras[i] for i in views]
     depths = render_depths(run.gaussians, cameras, run.sh_degree, device, "segment: depth")
     return lift_masks(means, cameras, masks, depths, config.rel_tol, config.join)
+
+
+def _salient_subject(run, ids: np.ndarray, solid: np.ndarray, config: SegmentConfig, stats: dict,
+                     device: torch.device) -> tuple[np.ndarray, int | None, dict]:
+    """The proposals with the subject (engine.train.saliency_votes) as an object of its own, its id, and why."""
+    scene: Scene = run.scene
+    views = voting_views(scene.train)
+    cameras = [scene.cameras[i] for i in views]
+    net = SalientNet(config.salient_weights)
+    depths = render_depths(run.gaussians, cameras, run.sh_degree, device, "segment: depth")
+    means = run.gaussians["means"].numpy()
+    votes, _ = salient_votes(means, cameras, [scene.images[i] for i in views], depths, net, config.rel_tol)
+    frame = camera_frame(scene.cameras)
+    opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
+    supports = find_supports(means, opacity, frame, config)
+    colours = np.clip(run.gaussians["sh0"][:, 0].numpy() * SH_C0 + 0.5, 0, 1)
+    voxel = stats.get("voxel") or config.voxel * frame.radius
+    chosen, why = subject(votes, means, colours, solid, supports.free, frame.up, voxel, config.min_vote)
+    if not chosen.any():
+        return ids, None, why
+    ids = ids.copy()
+    first = int(ids.max()) + 1
+    ids[chosen] = first
+    return ids, first, why
 
 
 def segments_sheet(scene: Scene, masks: list[np.ndarray], objects: list[SceneObject], views: int = 4

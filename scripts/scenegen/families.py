@@ -4,6 +4,8 @@
 - statue (the bear scene): a statue on a plinth on a stone slab, clutter around, a small white object
   on the slab that must stay.
 - livingroom (the occlusion case): a large plush-like object on a table hiding smaller objects.
+- wallmount (a vertical support): a head mounted on a plaque on a papered wall, a picture frame beside it that
+  must stay; the cameras stand in front of the wall, so what lies behind the plaque no view sees.
 
 Every family returns a SceneSpec: the objects with their mask ids, and where the cameras orbit.
 Environment pieces (floor, table, mats, slab, dome) carry id 0, the background.
@@ -29,6 +31,8 @@ class SceneSpec:
     focus: Vector = field(default_factory=Vector)  # orbit centre
     distance: float = 1.0  # camera distance from the focus
     elevation: tuple[float, float] = (20.0, 40.0)  # degrees above the focus
+    arc: float = 360.0  # degrees of azimuth the cameras span ('360' orbit): less for a wall they stand before
+    facing: float = 0.0  # the arc's middle azimuth, radians (the x axis is 0)
 
     def add(self, builder: MeshBuilder, name: str, target: bool = False) -> bpy.types.Object:
         obj = builder.finish(name, pass_index=len(self.objects) + 1)
@@ -185,8 +189,46 @@ def livingroom(rng: random.Random) -> SceneSpec:
     return spec
 
 
+def wallmount(rng: random.Random) -> SceneSpec:
+    """The wall is the plane y = 0 facing -y; the cameras sweep 150 degrees in front of it."""
+    spec = SceneSpec(distance=rng.uniform(0.8, 0.95), elevation=(-12.0, 22.0), arc=150.0, facing=-math.pi / 2)
+    environment.add_floor(materials.wood(rng, "parquet"))
+    wall = MeshBuilder()
+    paper = materials.textured("wallpaper", [materials.jitter(rng, (0.75, 0.7, 0.55)),
+                                             materials.jitter(rng, (0.45, 0.5, 0.35))],
+                               [{"kind": "wave", "scale": rng.uniform(8, 12), "distortion": 4.0},
+                                {"kind": "noise", "scale": 40.0, "detail": 2.0}], roughness=0.8)
+    wall.box((3.2, 0.06, 2.8), (0, 0.03, 1.4), paper)
+    wall.finish("wall")
+    height, x0 = rng.uniform(1.15, 1.35), rng.uniform(-0.1, 0.1)
+    mount = MeshBuilder()
+    plaque = materials.wood(rng, "plaque")
+    mount.box((0.24, 0.03, 0.3), (x0, -0.015, height), plaque)
+    fur = materials.mottled(rng, "fur", (0.55, 0.4, 0.25), (0.35, 0.25, 0.15), scale=50)
+    r = rng.uniform(0.08, 0.095)
+    mount.sphere(r, (x0, -0.03 - 0.8 * r, height + 0.01), fur, scale=(1.0, 1.25, 1.0), bumpiness=0.06,
+                 seed=rng.random() * 10)
+    mount.sphere(r * 0.5, (x0, -0.03 - 2.0 * r, height - 0.2 * r), fur, bumpiness=0.04, seed=rng.random() * 10)
+    horn = materials.mottled(rng, "antler", (0.85, 0.8, 0.7), (0.6, 0.55, 0.45), scale=30)
+    for side in (-1, 1):
+        mount.cylinder(r * 0.12, r * 1.3, (x0 + side * r * 0.6, -0.03 - 0.7 * r, height + 1.3 * r), horn,
+                       radius_top=0.003, rotation=(0, side * 0.5, 0))
+    spec.add(mount, "trophy", target=True)
+    frame = MeshBuilder()  # a picture beside it that must stay
+    side = rng.choice((-1, 1))
+    frame.box((0.28, 0.02, 0.2), (x0 + side * rng.uniform(0.42, 0.5), -0.01, height + rng.uniform(-0.05, 0.08)),
+              materials.checker(rng, "picture", (0.2, 0.3, 0.6), (0.85, 0.8, 0.7)))
+    spec.add(frame, "picture")
+    basket = MeshBuilder()
+    basket.cylinder(0.12, 0.25, (x0 - side * 0.35, -0.3, 0.125), materials.weave(rng, "basket", (0.6, 0.45, 0.25),
+                                                                                   (0.4, 0.3, 0.15)))
+    spec.add(basket, "basket")
+    spec.focus = Vector((x0, -0.08, height))
+    return spec
+
+
 FAMILIES: dict[str, Callable[[random.Random], SceneSpec]] = {
-    "tabletop": tabletop, "statue": statue, "livingroom": livingroom,
+    "tabletop": tabletop, "statue": statue, "livingroom": livingroom, "wallmount": wallmount,
 }
 
 

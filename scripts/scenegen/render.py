@@ -51,11 +51,12 @@ def configure_cycles(width: int, samples: int, seed: int, threads: int = 0) -> t
 
 
 def orbit_poses(focus: Vector, distance: float, elevation: tuple[float, float], views: int, orbit: str,
-                rng: random.Random) -> list[Matrix]:
+                rng: random.Random, arc: float = 360.0, facing: float = 0.0) -> list[Matrix]:
     """Camera-to-world matrices (Blender axes) looking at `focus`.
 
     '360': one loop around the focus whose elevation weaves between the bounds three times, so that
-    neighbouring views differ in height as in a hand-held capture. 'hemisphere': a Fibonacci spiral
+    neighbouring views differ in height as in a hand-held capture; with `arc` under 360 degrees, one sweep over
+    that arc around `facing` (a wall behind the focus). 'hemisphere': a Fibonacci spiral
     over elevations from the lower bound to 75 degrees.
     """
     lo, hi = elevation
@@ -63,7 +64,10 @@ def orbit_poses(focus: Vector, distance: float, elevation: tuple[float, float], 
     golden = math.pi * (3 - math.sqrt(5))
     poses = []
     for i in range(views):
-        if orbit == "360":
+        if orbit == "360" and arc < 360:  # a sweep in front of a wall, end to end
+            azimuth = facing + math.radians(arc) * ((i + 0.5) / views - 0.5)
+            elev = lo + (hi - lo) * (0.5 + 0.5 * math.sin(6 * math.pi * i / views))
+        elif orbit == "360":
             azimuth = start + 2 * math.pi * i / views
             elev = lo + (hi - lo) * (0.5 + 0.5 * math.sin(6 * math.pi * i / views))
         else:

@@ -19,10 +19,12 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from engine.inpaint.coarse import coarse_view
 from engine.inpaint.registry import Inpainter, register
 
 PATCH = 9  # px, odd: the published default
 WINDOW_MARGIN = 48  # px around the hole's bounding box at least
+MAX_HOLE_PX = 6000  # a larger hole picks its patches downscaled (exemplar_large)
 
 
 def _window(mask: np.ndarray, half: int) -> tuple[slice, slice]:
@@ -62,7 +64,13 @@ def _priority(work: np.ndarray, unknown: np.ndarray, confidence: np.ndarray, pat
 
 
 def exemplar_fill(image: np.ndarray, mask: np.ndarray, patch: int = PATCH) -> np.ndarray:
-    """Fill `mask` (True = unknown) of a uint8 (H, W, 3) image, or (H, W, 1) grey; returns a new image.
+    """Fill `mask` (True = unknown) of a uint8 (H, W, 3) image, or (H, W, 1) grey; returns a new image."""
+    return exemplar_sources(image, mask, patch)[0]
+
+
+def exemplar_sources(image: np.ndarray, mask: np.ndarray, patch: int = PATCH) -> tuple[np.ndarray, np.ndarray]:
+    """exemplar_fill's image, and for every pixel of `mask` the (row, col) of the known pixel its colour was
+    copied from ((H, W, 2) int, -1 outside the mask): what lets a coarse fill be copied again at full size.
 
     Filling a patch changes the priority only near it (within the patch's half width plus the 3x3
     filters of the data term), so after the first pass only that neighbourhood is recomputed, on a
@@ -77,6 +85,8 @@ def exemplar_fill(image: np.ndarray, mask: np.ndarray, patch: int = PATCH) -> np
     inside = np.pad(np.ones(mask[win_r, win_c].shape, bool), half, mode="constant", constant_values=False)
     search = _SourceSearch(work, inside & ~unknown, patch)
     h, w = unknown.shape
+    source = np.full((h, w, 2), -1, np.int64)
+    grid = np.stack(np.mgrid[0:h, 0:w], -1)
     priority = _priority(work, unknown, confidence, patch)
     left = int(unknown.sum())
     while left:
@@ -86,12 +96,41 @@ def exemplar_fill(image: np.ndarray, mask: np.ndarray, patch: int = PATCH) -> np
         fill = unknown[rows, cols].copy()
         sr, sc = search.best(work[rows, cols], ~fill)
         work[rows, cols][fill] = work[sr - half:sr + half + 1, sc - half:sc + half + 1][fill]
+        source[rows, cols][fill] = grid[sr - half:sr + half + 1, sc - half:sc + half + 1][fill]
         confidence[rows, cols][fill] = confidence[rows, cols].sum() / patch ** 2
         unknown[rows, cols] &= ~fill
         left -= int(fill.sum())
         _update(priority, work, unknown, confidence, patch, (r, c), reach)
     out = image.copy()
     out[win_r, win_c] = np.clip(np.rint(work[half:-half, half:-half]), 0, 255).astype(np.uint8)
+    where = np.full(image.shape[:2] + (2,), -1, np.int64)
+    inner = source[half:-half, half:-half]
+    offset = np.array([win_r.start - half, win_c.start - half])
+    where[win_r, win_c] = np.where(inner >= 0, inner + offset, -1)
+    return out, where
+
+
+def exemplar_large(image: np.ndarray, mask: np.ndarray, max_hole_px: int, patch: int = PATCH) -> np.ndarray:
+    """exemplar_fill for a hole of any size: above `max_hole_px` pixels the patches are chosen on the
+    downscaled neighbourhood (engine.inpaint.coarse) and each full-size hole pixel copies the pixel at the
+    same place within the scale x scale block its coarse pixel was copied from, so the texture comes back at
+    full resolution; where that lands in the hole (the coarse source block straddled its edge) the coarse
+    fill, upsampled, is used."""
+    coarse = coarse_view(mask, max_hole_px)
+    if coarse is None:
+        return exemplar_fill(image, mask, patch)
+    small, where = exemplar_sources(np.ascontiguousarray(coarse.down(image)), coarse.down_mask(mask), patch)
+    out = coarse.up(small, image)
+    ys, xs = np.nonzero(mask)
+    s = coarse.scale
+    cy, cx = (ys - coarse.rows.start) // s, (xs - coarse.cols.start) // s
+    src = where[cy, cx]
+    sy = coarse.rows.start + src[:, 0] * s + (ys - coarse.rows.start) % s
+    sx = coarse.cols.start + src[:, 1] * s + (xs - coarse.cols.start) % s
+    h, w = mask.shape
+    ok = (src[:, 0] >= 0) & (sy < h) & (sx < w)
+    ok[ok] &= ~mask[sy[ok], sx[ok]]
+    out[ys[ok], xs[ok]] = image[sy[ok], sx[ok]]
     return out
 
 
@@ -150,9 +189,9 @@ class Exemplar(Inpainter):
         return "processes"
 
     def inpaint_rgb(self, image, mask, prompt):
-        return exemplar_fill(image, mask)
+        return exemplar_large(image, mask, MAX_HOLE_PX)
 
     def inpaint_grey(self, grey, mask, prompt):
         """Depth as grey: one channel searched instead of three equal ones (two correlations a patch, not four),
         the same patches: three equal channels only triple every sum of squared differences."""
-        return np.repeat(exemplar_fill(np.ascontiguousarray(grey[..., :1]), mask), 3, axis=2)
+        return np.repeat(exemplar_large(np.ascontiguousarray(grey[..., :1]), mask, MAX_HOLE_PX), 3, axis=2)

@@ -1,0 +1,227 @@
+"""`python -m engine capture`: photos or a video in, a COLMAP folder out (images/ and sparse/0/), which every
+later stage takes as a scene.
+
+pycolmap's own SfM, with the defaults COLMAP and capture apps use: SIFT features, one SIMPLE_RADIAL camera,
+exhaustive matching for a photo set and sequential matching for a video's frames (neighbours in time overlap;
+exhaustive over hundreds of frames is quadratic), incremental mapping, the largest model kept, and the images
+undistorted to PINHOLE as 3DGS's convert.py does. engine.io.photos makes the images upright and small enough
+first.
+
+Resumable: OUT/.sfm/ holds the feature database and which phases finished; running the same command on the
+same OUT continues after the last finished phase (photos already written are kept). capture.json, written
+last, marks a finished capture. pycolmap's C++ cannot see Python's signals, so each phase runs in a worker
+thread and Ctrl-C or SIGTERM cancels it through pycolmap's cancellation token.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import signal
+import threading
+import time
+import zlib  # noqa: F401,I001  -- before pycolmap, see engine.io.colmap_model
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import cv2  # noqa: F401
+
+from engine.base.errors import Cancelled, InputError
+from engine.base.progress import emit, say
+from engine.formats.layout import CaptureLayout
+from engine.io.photos import JPEG_QUALITY, photo_files, prepare_photos, prepare_video
+
+
+@dataclass
+class CaptureConfig:
+    images: str = ""  # a folder of photos (JPEG, PNG, ...; EXIF orientation honoured)
+    video: str = ""  # or a video file (MP4, MOV, ...): its sharpest frames become the views
+    out: str = ""  # a new folder: images/ and sparse/0/, the scene the later stages take
+    max_size: int = 1600  # longer image side in px after downscaling (area averaging); 0 keeps the size
+    frames: int = 150  # video: views taken, the sharpest frame of each equal stretch
+    matching: str = "auto"  # auto (exhaustive for photos, sequential for video) | exhaustive | sequential
+    min_registered: float = 0.5  # refuse when SfM registers fewer than this share of the images
+    threads: int = -1  # CPU threads for SfM (-1: all)
+
+
+def run_capture(config: CaptureConfig) -> dict:
+    """Write config.out from the photos or video; returns the report (also OUT/capture.json)."""
+    layout = CaptureLayout(config.out)
+    out, work = layout.root, layout.work
+    _check_out(layout, config)
+    start = time.perf_counter()
+    clock: dict[str, float] = {}
+    work.mkdir(parents=True, exist_ok=True)
+    layout.config_json.write_text(json.dumps(asdict(config), indent=1))
+    photos = work / "input"  # upright and fitted; the undistorted images/ are made from them at the end
+    names = (prepare_video(Path(config.video), photos, config.frames, config.max_size) if config.video
+             else prepare_photos(photo_files(Path(config.images)), photos, config.max_size))
+    clock["images"] = time.perf_counter() - start
+    done = _phases_done(work)
+    for phase, action in (("features", lambda token: _features(photos, names, work, config, token)),
+                          ("matches", lambda token: _matches(work, config, token))):
+        if phase not in done:
+            emit("phase", stage="capture", phase=phase, images=len(names))
+            began = time.perf_counter()
+            _cancellable(action)
+            clock[phase] = time.perf_counter() - began
+            _mark_done(work, phase)
+    began = time.perf_counter()
+    model = _cancellable(lambda token: _mapping(photos, work, config, token, len(names)))
+    clock["mapping"] = time.perf_counter() - began
+    registered = model.num_reg_images()
+    report = {"images": len(names), "registered": registered, "points": model.num_points3D(),
+              "mean_reprojection_error_px": round(model.compute_mean_reprojection_error(), 3),
+              "camera": f"{model.cameras[next(iter(model.cameras))].model.name}, undistorted to PINHOLE",
+              "seconds": round(time.perf_counter() - start, 1), "phases": {k: round(v, 1) for k, v in clock.items()}}
+    if registered < max(3, config.min_registered * len(names)):
+        (work / "report.json").write_text(json.dumps(report, indent=1))
+        raise InputError(f"SfM registered {registered} of {len(names)} images of {config.images or config.video}: "
+                         "too few to build a scene; take more photos that overlap (each part seen from 3+ places)")
+    began = time.perf_counter()
+    _cancellable(lambda token: _undistort(model, photos, work, layout, token))
+    clock["undistort"] = time.perf_counter() - began
+    report["seconds"] = round(time.perf_counter() - start, 1)
+    report["phases"] = {k: round(v, 1) for k, v in clock.items()}
+    partial = out / f".{layout.report.name}.part"
+    partial.write_text(json.dumps(report, indent=1))
+    partial.replace(layout.report)
+    shutil.rmtree(work)
+    emit("done", stage="capture", out=str(out), **{k: report[k] for k in ("images", "registered", "seconds")})
+    return report
+
+
+def _check_out(layout: CaptureLayout, config: CaptureConfig) -> None:
+    if bool(config.images) == bool(config.video):
+        raise InputError("name the photos with --images DIR or a video with --video FILE (one of the two)")
+    if not config.out:
+        raise InputError("name a new folder for the capture with --out")
+    if config.matching not in ("auto", "exhaustive", "sequential"):
+        raise InputError(f"--matching {config.matching}: choose auto, exhaustive or sequential")
+    out = layout.root
+    if layout.report.is_file():
+        raise InputError(f"{out} is a finished capture ({layout.report.name}): train on it, or name a new --out")
+    if out.is_dir() and any(out.iterdir()):
+        if not layout.config_json.is_file():
+            raise InputError(f"output {out} already exists and is not empty: choose a new folder for the capture")
+        said = json.loads(layout.config_json.read_text())
+        if (said.get("images"), said.get("video")) != (config.images, config.video):
+            raise InputError(f"{out} holds a stopped capture of other images: name a new --out")
+        say(f"continuing the stopped capture in {out}")
+
+
+def _phases_done(work: Path) -> set[str]:
+    path = work / "done.json"
+    return set(json.loads(path.read_text())) if path.is_file() else set()
+
+
+def _mark_done(work: Path, phase: str) -> None:
+    (work / "done.json").write_text(json.dumps(sorted(_phases_done(work) | {phase})))
+
+
+def _cancellable(action: Callable):
+    """Run `action(token)` in a worker thread; Ctrl-C or SIGTERM cancels it through pycolmap's token and raises
+    Cancelled once it has stopped (the phases finished so far are kept)."""
+    import pycolmap
+
+    pycolmap.logging.minloglevel = 1  # warnings and errors: the progress lines say the rest
+    token, result, stopped = pycolmap.CancellationToken(), {}, {}
+
+    def work() -> None:
+        try:
+            result["value"] = action(token)
+        except BaseException as exc:  # handed to the main thread
+            result["error"] = exc
+
+    def stop(number: int, _frame) -> None:
+        stopped["signal"] = number
+        token.cancel()
+
+    handlers = {s: signal.signal(s, stop) for s in (signal.SIGINT, signal.SIGTERM)}
+    thread = threading.Thread(target=work, daemon=True)
+    try:
+        thread.start()
+        while thread.is_alive():
+            thread.join(0.2)
+    finally:
+        for s, h in handlers.items():
+            signal.signal(s, h)
+    if stopped:
+        raise Cancelled("capture stopped; run the same command again to continue")
+    if "error" in result:
+        raise result["error"]
+    return result["value"]
+
+
+def _features(images: Path, names: list[str], work: Path, config: CaptureConfig, token) -> None:
+    import pycolmap
+
+    reader = pycolmap.ImageReaderOptions()
+    reader.camera_model = "SIMPLE_RADIAL"
+    extraction = pycolmap.FeatureExtractionOptions()
+    extraction.num_threads = config.threads
+    pycolmap.extract_features(work / "database.db", images, image_names=names,
+                              camera_mode=pycolmap.CameraMode.SINGLE, reader_options=reader,
+                              extraction_options=extraction, device=pycolmap.Device.cpu, cancellation_token=token)
+
+
+def _matches(work: Path, config: CaptureConfig, token) -> None:
+    import pycolmap
+
+    sequential = config.matching == "sequential" or (config.matching == "auto" and bool(config.video))
+    options = pycolmap.FeatureMatchingOptions()
+    options.num_threads = config.threads
+    if sequential:
+        pycolmap.match_sequential(work / "database.db", matching_options=options, device=pycolmap.Device.cpu,
+                                  cancellation_token=token)
+    else:
+        pycolmap.match_exhaustive(work / "database.db", matching_options=options, device=pycolmap.Device.cpu,
+                                  cancellation_token=token)
+
+
+def _mapping(images: Path, work: Path, config: CaptureConfig, token, total: int):
+    """Incremental mapping; the model with the most registered images (progress per registered image)."""
+    import pycolmap
+
+    from engine.base.progress import Progress
+
+    options = pycolmap.IncrementalPipelineOptions()
+    options.num_threads = config.threads
+    progress, count = Progress("mapping", total), {"n": 0}
+
+    def registered() -> None:
+        count["n"] += 1
+        progress.update(min(count["n"], total))
+
+    shutil.rmtree(work / "sparse", ignore_errors=True)
+    (work / "sparse").mkdir()
+    models = pycolmap.incremental_mapping(work / "database.db", images, work / "sparse", options=options,
+                                          next_image_callback=registered, cancellation_token=token)
+    progress.close()
+    if token.is_cancelled:
+        return None
+    if not models:
+        raise InputError(f"SfM registered none of the {total} images in {images}: the photos share too few "
+                         "features; take overlapping photos of a textured scene")
+    return models[max(models, key=lambda k: models[k].num_reg_images())]
+
+
+def _undistort(model, photos: Path, work: Path, layout: CaptureLayout, token) -> None:
+    """The registered photos undistorted to PINHOLE cameras (COLMAP's image_undistorter, as 3DGS's convert.py
+    runs it) into OUT/images and OUT/sparse/0: every reader, ours and other 3DGS code, takes them as they are."""
+    import pycolmap
+
+    for folder in ("model", "undistorted"):
+        shutil.rmtree(work / folder, ignore_errors=True)
+    (work / "model").mkdir()
+    model.write_binary(str(work / "model"))
+    pycolmap.undistort_images(work / "undistorted", work / "model", photos, jpeg_quality=JPEG_QUALITY,
+                              num_threads=-1, cancellation_token=token)
+    if token.is_cancelled:
+        return
+    for target in (layout.images, layout.sparse):
+        shutil.rmtree(target, ignore_errors=True)
+    (work / "undistorted" / "images").rename(layout.images)
+    layout.sparse.mkdir()
+    (work / "undistorted" / "sparse").rename(layout.sparse / "0")
