@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from engine.pictures.video import count_frames
-from tests.conftest import REPO, make_scene
+from tests.conftest import REPO, make_scene, setup_weight
 
 pytestmark = pytest.mark.slow
 SIDE = {6: cv2.ROTATE_90_COUNTERCLOCKWISE, 8: cv2.ROTATE_90_CLOCKWISE}  # how a phone stores a portrait photo
@@ -66,7 +66,7 @@ def test_the_readme_user_path_runs_as_written_from_photos(photos: Path, tmp_path
                                                 "complete"]
     capture, run = tmp_path / "capture", tmp_path / "run"
     env = {**os.environ, "PHOTOS": str(photos), "CAPTURE": str(capture), "RUN": str(run),
-           "SPLATFILL_CACHE": str(tmp_path / "cache")}
+           "SPLATFILL_CACHE": str(tmp_path / "cache"), "SALIENT_WEIGHTS": str(setup_weight("u2netp.onnx"))}
     for command in commands:
         command = command.replace(".venv/bin/python", sys.executable)
         if " train " in command:

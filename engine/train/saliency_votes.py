@@ -29,6 +29,7 @@ from engine.train.proposals import voxel_components
 MAX_VIEWS = 24  # views voting: evenly spread over the training views (u2netp: about 0.1-0.5 s a view on a CPU)
 PEDESTAL_FOOTPRINT = 3.0  # a pedestal's footprint is at least this many times its subject's
 PEDESTAL_COLOUR = 0.3  # ... and its mean colour at least this far from the subject's (RGB in [0, 1])
+GROW = 3  # passes growing the subject over the salient Gaussians within two voxels of it
 
 
 @dataclass
@@ -75,11 +76,12 @@ def proposal_votes(ids: np.ndarray, votes: np.ndarray) -> dict[int, float]:
 
 
 def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np.ndarray, free: np.ndarray,
-            up: np.ndarray, voxel: float, min_vote: float) -> tuple[np.ndarray, dict]:
+            near: np.ndarray, up: np.ndarray, voxel: float, min_vote: float) -> tuple[np.ndarray, dict]:
     """(N,) bool: the Gaussians of the object the capture is about, and what was found. The salient Gaussians
-    the geometry leaves free (within the orbit, off every support plane, engine.train.proposals.find_supports),
-    their largest connected piece, less a pedestal it stands on (`pedestal_cut`); faint ones within two voxels
-    join it."""
+    the geometry leaves free (off every support plane, engine.train.proposals.find_supports), their largest
+    connected piece less a pedestal it stands on (`pedestal_cut`), then grown (`GROW` times two voxels) over the
+    salient Gaussians touching it, faint ones and those within a plane's band too: a plaque mounted flat on a
+    wall lies in the wall's band, but only the plaque votes salient."""
     chosen = np.zeros(len(means), bool)
     salient = np.flatnonzero(free & solid & (votes >= min_vote))
     if len(salient) == 0:
@@ -91,13 +93,17 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
     if cut is not None:
         members = members[means[members] @ up >= cut]
     chosen[members] = True
-    faint = np.flatnonzero(free & ~solid & (votes >= min_vote))
-    if len(faint):
-        distance = knn(torch.as_tensor(means[faint]), torch.as_tensor(means[members]), 1)[0][:, 0].numpy()
-        keep = distance <= 2 * voxel
-        if cut is not None:
-            keep &= means[faint] @ up >= cut
-        chosen[faint[keep]] = True
+    rest = near & (votes >= min_vote) & ~chosen
+    if cut is not None:
+        rest &= means @ up >= cut
+    for _ in range(GROW):
+        todo = np.flatnonzero(rest & ~chosen)
+        if not len(todo):
+            break
+        distance = knn(torch.as_tensor(means[todo]), torch.as_tensor(means[chosen]), 1)[0][:, 0].numpy()
+        if not (distance <= 2 * voxel).any():
+            break
+        chosen[todo[distance <= 2 * voxel]] = True
     return chosen, {"subject": "votes", "vote": round(float(votes[chosen].mean()), 3),
                     "salient_pieces": int(len(np.unique(part))), "pedestal": cut is not None}
 

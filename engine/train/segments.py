@@ -235,7 +235,8 @@ def _salient_subject(run, ids: np.ndarray, solid: np.ndarray, config: SegmentCon
     supports = find_supports(means, opacity, frame, config)
     colours = np.clip(run.gaussians["sh0"][:, 0].numpy() * SH_C0 + 0.5, 0, 1)
     voxel = stats.get("voxel") or config.voxel * frame.radius
-    chosen, why = subject(votes, means, colours, solid, supports.free, frame.up, voxel, config.min_vote)
+    chosen, why = subject(votes, means, colours, solid, supports.free, supports.near, frame.up, voxel,
+                          config.min_vote)
     if not chosen.any():
         return ids, None, why
     ids = ids.copy()
