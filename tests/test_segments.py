@@ -98,6 +98,25 @@ def test_auto_finds_the_target_without_masks(run_copy: Path, tmp_path: Path):
     assert removal["removed"] > 0
 
 
+def test_a_click_in_one_view_gives_the_object_under_it(run_copy: Path):
+    """--point at the target's pixel centre in one training view (where the exact mask says it is): the object
+    made covers the target on the test views; a click outside the image is refused with one line."""
+    scene = load_run_scene(run_copy)
+    i = next(i for i in scene.train if (scene.masks[i] == scene.target.id).sum() > 30)
+    rows, cols = np.nonzero(scene.masks[i] == scene.target.id)
+    u, v = float(np.median(cols)) + 0.5, float(np.median(rows)) + 0.5
+    run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), point=[u, v], view=scene.cameras[i].name,
+                                                  name="clicked", device="cpu"))
+    found = load_run_scene(run_copy)
+    assert [o.name for o in found.objects] == ["clicked"]
+    scores = proposal_scores([found.masks[k] for k in scene.test], [scene.masks[k] for k in scene.test],
+                             [o.id for o in scene.objects])
+    assert scores["objects"][scene.target.id]["iou"] >= 0.5, scores
+    with pytest.raises(InputError, match="lies outside"):
+        run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), point=[1e4, 1.0], name="far",
+                                                      view=scene.cameras[i].name, device="cpu"))
+
+
 def test_lifting_joins_segments_that_share_gaussians_whatever_their_ids():
     """Two views of two clusters of points, the ids swapped between the views: two objects, not four."""
     from engine.formats.cameras import Camera

@@ -14,8 +14,8 @@ background), objects.json (id, name, 3D box, Gaussians) and per-view instance-id
 - automatic (`--auto`): proposals from the geometry (engine.train.proposals): what rests on or hangs from the
   capture's support planes, split by 3D connectivity; then the subject, the object the capture is about, from
   salient-object votes across views (engine.train.saliency_votes), named object_1.
-- from a selection (`--box`, or `--indices` for the proxy points a user selected in Blender): those
-  Gaussians become one more object beside those found so far.
+- from a selection (`--box`, `--indices` for the proxy points a user selected in Blender, or `--point U V
+  --view IMAGE`, a click in one photo): those Gaussians become one more object beside those found so far.
 
 When RUN/segments/ exists, engine.train.trained_run loads the run with these objects, masks and identities
 (the identities one-hot over the objects, the classifier their identity map), so `remove --object NAME`,
@@ -37,7 +37,7 @@ from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import emit
-from engine.formats.cameras import Camera, project, sample_nearest
+from engine.formats.cameras import Camera, backproject, project, sample_nearest
 from engine.formats.checks import read_json
 from engine.formats.layout import SegmentsLayout
 from engine.formats.splat_ply import IDENTITY_DIM, SH_C0
@@ -48,7 +48,7 @@ from engine.io.scene import Scene, SceneObject
 from engine.pictures.preview import colorize_ids, label
 from engine.render.rasterize import CameraTensors, render
 from engine.render.render_views import render_depths
-from engine.train.proposals import ProposalConfig, camera_frame, find_supports, propose
+from engine.train.proposals import ProposalConfig, camera_frame, find_supports, propose, spacing, voxel_components
 from engine.train.saliency_votes import VoteConfig, salient_votes, subject, voting_views
 from engine.train.salient import SalientNet
 
@@ -63,7 +63,9 @@ class SegmentConfig(VoteConfig, ProposalConfig):
     from_masks: str = ""  # a folder of per-view instance-id PNGs named like the images (0 = unlabelled)
     box: list[float] = field(default_factory=list)  # x0 y0 z0 x1 y1 z1: the Gaussians inside become an object
     indices: str = ""  # a .npy or text file of Gaussian indices (Blender's selected proxy points): one object
-    name: str = ""  # --box/--indices: the object's name (default object_<id>)
+    point: list[float] = field(default_factory=list)  # U V: a click (pixels of the run's --view image): its object
+    view: str = ""  # --point: the image name the click is in
+    name: str = ""  # --box/--indices/--point: the object's name (default object_<id>)
     rel_tol: float = 0.03  # a Gaussian is seen when its depth is within this fraction of the rendered depth
     join: float = 0.5  # a segment joins the object that holds at least this fraction of its Gaussians
     min_gaussians: int = 20  # smaller objects go to the background
@@ -72,11 +74,13 @@ class SegmentConfig(VoteConfig, ProposalConfig):
 
     def __post_init__(self) -> None:
         self.box = [float(v) for v in self.box]  # saved in segments.json
+        self.point = [float(v) for v in self.point]
 
     @property
     def adds(self) -> bool:
-        """--box and --indices add one object to the run's segments; --auto and --from-masks make them anew."""
-        return bool(self.box or self.indices)
+        """--box, --indices and --point add one object to the run's segments; --auto and --from-masks make them
+        anew."""
+        return bool(self.box or self.indices or self.point)
 
 
 def lift_masks(means: np.ndarray, cameras: list[Camera], masks: list[np.ndarray], depths: list[np.ndarray],
@@ -169,13 +173,14 @@ def instance_masks(gaussians: Gaussians, ids: np.ndarray, cameras: list[Camera],
 def run_segment(run, config: SegmentConfig) -> dict:
     """Write RUN/segments/ for a loaded run (engine.train.trained_run.TrainedRun). --auto and --from-masks
     ignore the run's objects; --box and --indices add one to the segments found so far."""
-    if sum(map(bool, (config.auto, config.from_masks, config.box, config.indices))) != 1:
-        raise InputError("give one of --auto, --from-masks DIR, --box x0 y0 z0 x1 y1 z1 or --indices FILE")
+    if sum(map(bool, (config.auto, config.from_masks, config.box, config.indices, config.point))) != 1:
+        raise InputError("give one of --auto, --from-masks DIR, --box x0 y0 z0 x1 y1 z1, --indices FILE or "
+                         "--point U V --view IMAGE")
     means = run.gaussians["means"].numpy()
     out = SegmentsLayout(config.out) if config.out else run.layout.segments
     device = pick_device(config.device)
     if config.adds:
-        ids, objects, stats = _add_selection(run, means, config)
+        ids, objects, stats = _add_selection(run, means, config, device)
     else:
         first = None
         if config.from_masks:
@@ -262,10 +267,13 @@ def segments_sheet(scene: Scene, masks: list[np.ndarray], objects: list[SceneObj
     return np.concatenate(rows, axis=0)
 
 
-def _add_selection(run, means: np.ndarray, config: SegmentConfig
+def _add_selection(run, means: np.ndarray, config: SegmentConfig, device: torch.device
                    ) -> tuple[np.ndarray, list[SceneObject], dict]:
     """The segments so far with the selected Gaussians as one more object (they leave any other)."""
-    chosen = inside_box(means, config.box) if config.box else _read_indices(Path(config.indices), len(means))
+    if config.point:
+        chosen = _clicked(run, means, config, device)
+    else:
+        chosen = inside_box(means, config.box) if config.box else _read_indices(Path(config.indices), len(means))
     ids, objects = np.zeros(len(means), np.int64), []
     if run.layout.segments.ids.is_file():
         ids, objects = np.load(run.layout.segments.ids).astype(np.int64), read_segment_objects(run.layout)
@@ -280,6 +288,39 @@ def _add_selection(run, means: np.ndarray, config: SegmentConfig
     ids[chosen] = new
     objects = [o for o in objects if (ids == o.id).any()] + [SceneObject(new, name, False)]
     return ids, objects, {"selected": int(chosen.sum())}
+
+
+def _clicked(run, means: np.ndarray, config: SegmentConfig, device: torch.device) -> np.ndarray:
+    """The object under a click: the rendered surface at pixel (U, V) of --view lifted to 3D, and the connected
+    piece (engine.train.proposals' voxels) of the solid Gaussians off every support plane nearest to it. A click on
+    the floor or a wall gives the object nearest to where it landed."""
+    scene: Scene = run.scene
+    names = [c.name for c in scene.cameras]
+    if len(config.point) != 2 or config.view not in names:
+        raise InputError(f"--point takes U V and --view one of the run's images ({names[0]}, ...), not "
+                         f"{config.point} in {config.view!r}")
+    camera = scene.cameras[names.index(config.view)]
+    u, v = config.point
+    if not (0 <= u < camera.width and 0 <= v < camera.height):
+        raise InputError(f"--point {u:g} {v:g} lies outside {config.view} ({camera.width}x{camera.height} px "
+                         "in the run)")
+    depth = render_depths(run.gaussians, [camera], run.sh_degree, device, "segment: depth")[0]
+    z = float(depth[int(v), int(u)])
+    if not np.isfinite(z) or z <= 0:
+        raise InputError(f"nothing is rendered at --point {u:g} {v:g} of {config.view}: click on the object")
+    target = backproject(camera, np.array(u), np.array(v), np.array(z))
+    frame = camera_frame(scene.cameras)
+    opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
+    pool = np.flatnonzero(find_supports(means, opacity, frame, config).free & (opacity >= config.solid))
+    chosen = np.zeros(len(means), bool)
+    if not len(pool):
+        raise InputError(f"{run.root} has no object off its support planes near --point: use --box")
+    voxel = max(config.voxel * frame.radius, spacing(means[pool]))
+    voxel_of, label = voxel_components(means[pool], voxel)
+    part = label[voxel_of]
+    nearest = int(np.argmin(np.linalg.norm(means[pool] - target, axis=1)))
+    chosen[pool[part == part[nearest]]] = True
+    return chosen
 
 
 def _read_indices(path: Path, count: int) -> np.ndarray:
