@@ -81,7 +81,7 @@ def main() -> int:
                       ("removal", run.removed.report)):
         if path.is_file():
             data = json.loads(path.read_text())
-            record[key] = {k: v for k, v in data.items() if k not in ("config", "proposal_votes")}
+            record[key] = {k: v for k, v in data.items() if k != "config"}
     finished = [CompleteLayout(p.parent) for p in sorted(run.root.glob("*/*/scores.json"))]
     if finished:
         record["complete"] = json.loads(finished[0].scores_json.read_text())

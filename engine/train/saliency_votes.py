@@ -70,11 +70,6 @@ def voting_views(train: list[int]) -> list[int]:
     return [train[k] for k in np.linspace(0, len(train) - 1, MAX_VIEWS).round().astype(int)]
 
 
-def proposal_votes(ids: np.ndarray, votes: np.ndarray) -> dict[int, float]:
-    """Each proposal's mean vote."""
-    return {int(k): float(votes[ids == k].mean()) for k in np.unique(ids) if k != 0}
-
-
 def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np.ndarray, free: np.ndarray,
             near: np.ndarray, up: np.ndarray, voxel: float, min_vote: float) -> tuple[np.ndarray, dict]:
     """(N,) bool: the Gaussians of the object the capture is about, and what was found. The salient Gaussians

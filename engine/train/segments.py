@@ -189,7 +189,7 @@ def run_segment(run, config: SegmentConfig) -> dict:
             opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
             ids, stats = propose(means, opacity, run.scene.cameras, config)
             if config.salient:
-                ids, first, votes = _salient_subject(run, ids, opacity >= config.solid, config, stats, device)
+                ids, first, votes = _salient_subject(run, ids, opacity, config, stats, device)
                 stats.update(votes)
         ids = renumber(ids, config.min_gaussians, first)
         objects = [SceneObject(int(i), f"object_{i}", False) for i in range(1, int(ids.max(initial=0)) + 1)]
@@ -225,7 +225,7 @@ def _from_masks(run, means: np.ndarray, config: SegmentConfig, device: torch.dev
     return lift_masks(means, cameras, masks, depths, config.rel_tol, config.join)
 
 
-def _salient_subject(run, ids: np.ndarray, solid: np.ndarray, config: SegmentConfig, stats: dict,
+def _salient_subject(run, ids: np.ndarray, opacity: np.ndarray, config: SegmentConfig, stats: dict,
                      device: torch.device) -> tuple[np.ndarray, int | None, dict]:
     """The proposals with the subject (engine.train.saliency_votes) as an object of its own, its id, and why."""
     scene: Scene = run.scene
@@ -236,11 +236,10 @@ def _salient_subject(run, ids: np.ndarray, solid: np.ndarray, config: SegmentCon
     means = run.gaussians["means"].numpy()
     votes, _ = salient_votes(means, cameras, [scene.images[i] for i in views], depths, net, config.rel_tol)
     frame = camera_frame(scene.cameras)
-    opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
     supports = find_supports(means, opacity, frame, config)
     colours = np.clip(run.gaussians["sh0"][:, 0].numpy() * SH_C0 + 0.5, 0, 1)
     voxel = stats.get("voxel") or config.voxel * frame.radius
-    chosen, why = subject(votes, means, colours, solid, supports.free, supports.near, frame.up, voxel,
+    chosen, why = subject(votes, means, colours, opacity >= config.solid, supports.free, supports.near, frame.up, voxel,
                           config.min_vote)
     if not chosen.any():
         return ids, None, why
