@@ -162,12 +162,11 @@ def find_supports(means: np.ndarray, opacity: np.ndarray, frame: Frame, config: 
     return Supports(planes, walls, near, free)
 
 
-def propose(means: np.ndarray, opacity: np.ndarray, cameras: list[Camera], config: ProposalConfig
+def propose(means: np.ndarray, opacity: np.ndarray, frame: Frame, support: Supports, config: ProposalConfig
             ) -> tuple[np.ndarray, dict]:
-    """(N,) proposal id per Gaussian (0 = background, ids in no order) and what was found."""
-    frame = camera_frame(cameras)
+    """(N,) proposal id per Gaussian (0 = background, ids in no order) and what was found, given the orbit's
+    frame and the supports `find_supports` found in it."""
     r = frame.radius
-    support = find_supports(means, opacity, frame, config)
     planes, walls, near = support.planes, support.walls, support.near
     solid = near & (opacity >= config.solid)
     tol = config.plane_tol * r

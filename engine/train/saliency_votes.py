@@ -29,7 +29,8 @@ from engine.train.proposals import voxel_components
 MAX_VIEWS = 24  # views voting: evenly spread over the training views (u2netp: about 0.1-0.5 s a view on a CPU)
 PEDESTAL_FOOTPRINT = 3.0  # a pedestal's footprint is at least this many times its subject's
 PEDESTAL_COLOUR = 0.3  # ... and its mean colour at least this far from the subject's (RGB in [0, 1])
-GROW = 3  # passes growing the subject over the salient Gaussians within two voxels of it
+GROW = 6  # passes growing the subject over the salient Gaussians within STEP voxels of it
+STEP = 1.0  # voxels a pass reaches: a salient picture hung 1.7 voxels beside a plaque stays out
 
 
 @dataclass
@@ -74,9 +75,10 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
             near: np.ndarray, up: np.ndarray, voxel: float, min_vote: float) -> tuple[np.ndarray, dict]:
     """(N,) bool: the Gaussians of the object the capture is about, and what was found. The salient Gaussians
     the geometry leaves free (off every support plane, engine.train.proposals.find_supports), their largest
-    connected piece less a pedestal it stands on (`pedestal_cut`), then grown (`GROW` times two voxels) over the
-    salient Gaussians touching it, faint ones and those within a plane's band too: a plaque mounted flat on a
-    wall lies in the wall's band, but only the plaque votes salient."""
+    connected piece less a pedestal it stands on (`pedestal_cut`), then grown (`GROW` passes of `STEP` voxels)
+    over the salient Gaussians touching it, faint ones and those within a plane's band too: a plaque mounted flat
+    on a wall lies in the wall's band. A picture on the same wall votes as salient as the plaque; the wall between
+    them does not, and a step no longer than a voxel does not cross it."""
     chosen = np.zeros(len(means), bool)
     salient = np.flatnonzero(free & solid & (votes >= min_vote))
     if len(salient) == 0:
@@ -96,9 +98,9 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
         if not len(todo):
             break
         distance = knn(torch.as_tensor(means[todo]), torch.as_tensor(means[chosen]), 1)[0][:, 0].numpy()
-        if not (distance <= 2 * voxel).any():
+        if not (distance <= STEP * voxel).any():
             break
-        chosen[todo[distance <= 2 * voxel]] = True
+        chosen[todo[distance <= STEP * voxel]] = True
     return chosen, {"subject": "votes", "vote": round(float(votes[chosen].mean()), 3),
                     "salient_pieces": int(len(np.unique(part))), "pedestal": cut is not None}
 

@@ -48,7 +48,7 @@ from engine.io.scene import Scene, SceneObject
 from engine.pictures.preview import colorize_ids, label
 from engine.render.rasterize import CameraTensors, render
 from engine.render.render_views import render_depths
-from engine.train.proposals import ProposalConfig, camera_frame, find_supports, propose, spacing, voxel_components
+from engine.train.proposals import Frame, ProposalConfig, Supports, camera_frame, find_supports, propose
 from engine.train.saliency_votes import VoteConfig, salient_votes, subject, voting_views
 from engine.train.salient import SalientNet
 
@@ -187,9 +187,11 @@ def run_segment(run, config: SegmentConfig) -> dict:
             ids, stats = _from_masks(run, means, config, device)
         else:
             opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
-            ids, stats = propose(means, opacity, run.scene.cameras, config)
+            frame = camera_frame(run.scene.cameras)
+            supports = find_supports(means, opacity, frame, config)
+            ids, stats = propose(means, opacity, frame, supports, config)
             if config.salient:
-                ids, first, votes = _salient_subject(run, ids, opacity, config, stats, device)
+                ids, first, votes = _salient_subject(run, ids, opacity, frame, supports, config, stats, device)
                 stats.update(votes)
         ids = renumber(ids, config.min_gaussians, first)
         objects = [SceneObject(int(i), f"object_{i}", False) for i in range(1, int(ids.max(initial=0)) + 1)]
@@ -225,8 +227,8 @@ def _from_masks(run, means: np.ndarray, config: SegmentConfig, device: torch.dev
     return lift_masks(means, cameras, masks, depths, config.rel_tol, config.join)
 
 
-def _salient_subject(run, ids: np.ndarray, opacity: np.ndarray, config: SegmentConfig, stats: dict,
-                     device: torch.device) -> tuple[np.ndarray, int | None, dict]:
+def _salient_subject(run, ids: np.ndarray, opacity: np.ndarray, frame: Frame, supports: Supports,
+                     config: SegmentConfig, stats: dict, device: torch.device) -> tuple[np.ndarray, int | None, dict]:
     """The proposals with the subject (engine.train.saliency_votes) as an object of its own, its id, and why."""
     scene: Scene = run.scene
     views = voting_views(scene.train)
@@ -235,8 +237,6 @@ def _salient_subject(run, ids: np.ndarray, opacity: np.ndarray, config: SegmentC
     depths = render_depths(run.gaussians, cameras, run.sh_degree, device, "segment: depth")
     means = run.gaussians["means"].numpy()
     votes, _ = salient_votes(means, cameras, [scene.images[i] for i in views], depths, net, config.rel_tol)
-    frame = camera_frame(scene.cameras)
-    supports = find_supports(means, opacity, frame, config)
     colours = np.clip(run.gaussians["sh0"][:, 0].numpy() * SH_C0 + 0.5, 0, 1)
     voxel = stats.get("voxel") or config.voxel * frame.radius
     chosen, why = subject(votes, means, colours, opacity >= config.solid, supports.free, supports.near, frame.up, voxel,
@@ -290,9 +290,9 @@ def _add_selection(run, means: np.ndarray, config: SegmentConfig, device: torch.
 
 
 def _clicked(run, means: np.ndarray, config: SegmentConfig, device: torch.device) -> np.ndarray:
-    """The object under a click: the rendered surface at pixel (U, V) of --view lifted to 3D, and the connected
-    piece (engine.train.proposals' voxels) of the solid Gaussians off every support plane nearest to it. A click on
-    the floor or a wall gives the object nearest to where it landed."""
+    """The object under a click: the rendered surface at pixel (U, V) of --view lifted to 3D, and the proposal
+    (engine.train.proposals: a piece off every support plane, its faint Gaussians joined) nearest to it. A click
+    on the floor or a wall gives the object nearest to where it landed."""
     scene: Scene = run.scene
     names = [c.name for c in scene.cameras]
     if len(config.point) != 2 or config.view not in names:
@@ -308,18 +308,14 @@ def _clicked(run, means: np.ndarray, config: SegmentConfig, device: torch.device
     if not np.isfinite(z) or z <= 0:
         raise InputError(f"nothing is rendered at --point {u:g} {v:g} of {config.view}: click on the object")
     target = backproject(camera, np.array(u), np.array(v), np.array(z))
-    frame = camera_frame(scene.cameras)
     opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
-    pool = np.flatnonzero(find_supports(means, opacity, frame, config).free & (opacity >= config.solid))
-    chosen = np.zeros(len(means), bool)
+    frame = camera_frame(scene.cameras)
+    ids, _ = propose(means, opacity, frame, find_supports(means, opacity, frame, config), config)
+    pool = np.flatnonzero(ids > 0)
     if not len(pool):
         raise InputError(f"{run.root} has no object off its support planes near --point: use --box")
-    voxel = max(config.voxel * frame.radius, spacing(means[pool]))
-    voxel_of, label = voxel_components(means[pool], voxel)
-    part = label[voxel_of]
-    nearest = int(np.argmin(np.linalg.norm(means[pool] - target, axis=1)))
-    chosen[pool[part == part[nearest]]] = True
-    return chosen
+    nearest = pool[int(np.argmin(np.linalg.norm(means[pool] - target, axis=1)))]
+    return ids == ids[nearest]
 
 
 def _read_indices(path: Path, count: int) -> np.ndarray:
