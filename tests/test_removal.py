@@ -150,3 +150,23 @@ def test_a_splat_trained_elsewhere_becomes_a_run_that_later_stages_use(tiny_run:
         import_splat(ImportConfig(ply=str(tmp_path / "moved.ply"), scene=scene, out=str(tmp_path / "run2"),
                                   device="cpu"))
     assert not (tmp_path / "run2").exists()
+
+
+def test_pieces_left_loose_where_the_object_was_go_and_what_joins_the_floor_stays():
+    """A floor running past the object, a blob floating beside the removed object, the same blob marked as
+    another object's (not free), a rod leaning from beside it out past the reach, and a blob far away: only
+    the floating free blob is loose."""
+    from engine.edit.loose import loose_pieces
+
+    rng = np.random.default_rng(0)
+    floor = np.stack(np.meshgrid(np.linspace(-2, 2, 81), np.linspace(-2, 2, 81), [0.0]), -1).reshape(-1, 3)
+    obj = rng.uniform([-0.3, -0.3, 0.05], [0.3, 0.3, 0.8], (400, 3))
+    floating = rng.normal([0.45, 0.0, 0.5], 0.02, (30, 3))
+    guarded = rng.normal([-0.45, 0.0, 0.5], 0.02, (30, 3))
+    far = rng.normal([1.8, 1.8, 0.5], 0.02, (30, 3))
+    rod = np.linspace([0.0, 0.45, 0.5], [0.0, 1.5, 0.5], 60)
+    means = np.concatenate([floor, obj, floating, guarded, far, rod])
+    kinds = np.repeat(np.arange(6), [len(floor), len(obj), len(floating), len(guarded), len(far), len(rod)])
+    removed, free = kinds == 1, (kinds >= 2) & (kinds != 3)
+    loose = loose_pieces(means, removed, free, means[removed], voxel=0.06)
+    assert loose[kinds == 2].all() and not loose[kinds != 2].any()

@@ -6,7 +6,7 @@ swallow the table the object stands on; here the optional clean-up is the object
 scene's masks instead: a Gaussian goes when it projects into the object's mask (dilated by a few pixels)
 in nine in ten of the training views that have it in frame. A table Gaussian seen beside the object from
 its side stays; what only a few grazing views saw through a gap under the object (the dark cavity under a
-toy's body) goes with it.
+toy's body) goes with it. Then the pieces left loose where the object was (engine.edit.loose) go too.
 
 The output folder (default RUN/removed) holds the remaining Gaussians as a standard PLY, renders of every
 view (images/, depth/), the object's mask per view (masks/, the region stage 3 looks for holes in),
@@ -49,6 +49,7 @@ from engine.edit.effects import (
     relight,
     residual_gain,
 )
+from engine.edit.loose import loose_pieces
 from engine.edit.support_plane import Footprint, object_core, object_support
 from engine.edit.underside import Underside, find_underside, paint
 from engine.formats.cameras import mean_up
@@ -62,6 +63,7 @@ from engine.io.visibility import inside_visual_hull
 from engine.metrics.image_metrics import psnr
 from engine.pictures.preview import label, overlay
 from engine.render.render_views import render_pictures
+from engine.train.proposals import ProposalConfig, camera_frame, find_supports
 from engine.train.trained_run import TrainedRun, load_run
 
 
@@ -76,6 +78,7 @@ class RemovalConfig:
     hull: bool = True  # also remove Gaussians inside the object's visual hull (needs masks)
     hull_dilate: int = 2  # px added around the masks for the hull test
     hull_share: float = 0.9  # share of the views framing a Gaussian whose mask it must fall in, for the hull
+    loose: bool = True  # --object: also remove the pieces left loose where it was (engine.edit.loose)
     effects: bool = True  # also undo the object's shadow and darkening (relight them), write removed/effects
     out: str = ""  # default RUN/removed
     scene: str = ""  # default: the scene named in the run's config.json
@@ -135,11 +138,19 @@ def run_removal(config: RemovalConfig) -> dict:
     check_new_output(out)
     device = pick_device(config.device)
     removed, counts = select(run, config)
-    remaining, gone = keep(run.gaussians, removed), keep(run.gaussians, ~removed)
     scene = run.scene
     obj = scene.object_by(config.object) if config.object else None
     up = mean_up(np.stack([c.R for c in scene.cameras]))
-    core = object_core(gone, up)
+    core = object_core(keep(run.gaussians, ~removed), up)
+    if config.loose and obj is not None:  # a box removes exactly what it holds
+        means, frame = run.gaussians["means"].numpy(), camera_frame(scene.cameras)
+        opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
+        free = find_supports(means, opacity, frame, ProposalConfig()).free
+        free &= ~other_objects(run, run.gaussians, obj.id if obj else None)
+        loose = loose_pieces(means, removed, free, core, ProposalConfig.voxel * frame.radius)
+        counts["loose"] = int(loose.sum())
+        removed |= loose
+    remaining, gone = keep(run.gaussians, removed), keep(run.gaussians, ~removed)
     plane = object_support(remaining["means"].numpy(), core, up)
     footprint = Footprint.of(core, up if plane is None else plane[0])
     # the object's region: the scene's masks, else the original's rendered labels; for a box, where
