@@ -73,7 +73,7 @@ DEMO_VIEWS ?= 16
 DEMO_STEPS ?= 1000
 demo: .venv/.ready $(BLENDER_ENV) $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_WEIGHTS)
 	$(BLENDER_RUN) scripts/make_scene.py $(BLENDER_ARGS_SEP) --family livingroom --out $(DEMO)/scene \
-		--views $(DEMO_VIEWS) --res $(DEMO_RES) --samples 16 --gt test
+		--views $(DEMO_VIEWS) --res $(DEMO_RES) --samples 16 --gt test --extra-test 0
 	$(ENGINE) -m engine preview --scene $(DEMO)/scene --out $(DEMO)/preview.png --rows 4
 	$(ENGINE) -m engine train --scene $(DEMO)/scene --out $(DEMO)/run --preset tiny --steps $(DEMO_STEPS) --max-gaussians 20000
 	$(ENGINE) -m engine remove --run $(DEMO)/run --object plush

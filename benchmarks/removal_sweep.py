@@ -66,7 +66,10 @@ def run_bench(args: argparse.Namespace) -> None:
     from engine.train.config import TrainConfig
     from engine.train.run import train
 
+    from engine.formats.protocol import refuse_held_out
+
     scene = Path(args.scene)
+    refuse_held_out(scene, "removal_sweep.py")
     with tempfile.TemporaryDirectory() as tmp:
         tmp = args.work or tmp
         run = Path(args.run) if args.run else Path(tmp) / "run"

@@ -21,9 +21,11 @@ first row; OUT/stability.md and OUT/speed_accuracy.svg and .png (scripts/benchma
 <scene>.png, the first seed's test views side by side (GT, then each method). Methods: the
 benchmark cells the completion-method plug-ins declare (engine/complete/methods; `--list-methods`): init,
 init-colmap (Init on poses COLMAP re-estimates from the inpainted images, the paper's ablation), reference
-(Ref: one view's fill carried to every view), direct, ft3, ftall. Run time of a method: the stages it needs
-(Init and FT: train + remove + holes + inpaint + complete; methods that paint the input images, like Direct:
-their inpainting + complete).
+(Ref: one view's fill carried to every view), direct, ft3, ftall. Run time of a method is end to end: every
+stage it needs (train + remove + holes + inpaint + complete; Direct, which paints the input images, all but the
+holes), as a user running that method alone waits; `Share (s)` splits each shared stage among the cells that
+used it. FID and KID stay in the per-scene tables (a set metric is not averaged across scenes) and are n/a over
+fewer than 50 images a side (engine.metrics.scores).
 """
 
 from __future__ import annotations
@@ -52,6 +54,7 @@ COLUMNS = [("psnr", "PSNR", max), ("m_psnr", "m-PSNR", max), ("ssim", "SSIM", ma
            ("st_lpips", "ST-LPIPS", min), ("m_st_lpips", "m-ST-LPIPS", min),
            ("fid", "FID", min), ("m_fid", "m-FID", min),
            ("kid", "KID", min), ("m_kid", "m-KID", min), ("seconds", "Run time (s)", min),
+           ("share_seconds", "Share (s)", min),
            ("gaussians", "Gaussians", None)]
 
 
@@ -70,12 +73,26 @@ def _table(rows: dict[str, dict[str, float | None]]) -> list[str]:
     best = {}
     for key, _, pick in COLUMNS:
         values = [r[key] for name, r in rows.items() if r.get(key) is not None and name != "Removed (unfilled)"]
-        best[key] = pick(values) if pick and values else None
+        best[key] = _best(values, key, pick) if pick and values else None
+
+    def shown(value, key: str) -> float | None:
+        return max(value, 0.0) if value is not None and key in ("kid", "m_kid") else value
+
     for name, r in rows.items():
-        cells = [(f"**{_fmt(r.get(key), key)}**" if best[key] is not None and r.get(key) == best[key]
-                  else _fmt(r.get(key), key)) for key, _, _ in COLUMNS]
+        cells = [(f"**{_fmt(r.get(key), key)}**" if best[key] is not None and shown(r.get(key), key) == best[key]
+                  and name != "Removed (unfilled)" else _fmt(r.get(key), key)) for key, _, _ in COLUMNS]
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
     return lines
+
+
+DISTRIBUTION = ("fid", "m_fid", "kid", "m_kid")  # set metrics: never averaged across scenes (METRICS.md)
+
+
+def _best(values: list[float], key: str, pick):
+    """The value to bold: KID estimates a squared distance, so a negative one is zero (noise), never better."""
+    if key in ("kid", "m_kid"):
+        return pick(max(v, 0.0) for v in values)
+    return pick(values)
 
 
 def _mean(values: list) -> float | None:
@@ -83,23 +100,73 @@ def _mean(values: list) -> float | None:
     return sum(kept) / len(kept) if kept else None
 
 
+def add_shares(cells: list[dict]) -> list[dict]:
+    """Each finished cell with `share_seconds`: its completion plus, for each shared stage it needs (base run,
+    removal, holes, inpainting), that stage's seconds split evenly among the finished cells of its scene and seed
+    that need it. `seconds` stays the end-to-end time a user running that one method would wait."""
+    users: dict[tuple, int] = {}
+    for c in cells:
+        for stage in c.get("stages") or {}:
+            users[(c["scene"], c["seed"], stage)] = users.get((c["scene"], c["seed"], stage), 0) + 1
+    return [c | {"share_seconds": round(c["complete_seconds"] + sum(
+        s / users[(c["scene"], c["seed"], k)] for k, s in c["stages"].items()), 1)} if c.get("stages") else c
+        for c in cells]
+
+
 def summarise(cells: list[dict]) -> dict[str, dict[str, dict]]:
-    """Per scene (and 'all'), per method: each column's mean over seeds (and scenes, for 'all')."""
-    done = [c for c in cells if c["status"] == "done"]
+    """Per scene, and averaged over scenes ('all'; 'all held-out', 'all tuning' and 'all other' when the scenes'
+    roles differ, engine.formats.protocol), per method: each column's mean over seeds (and scenes)."""
+    done = add_shares([c for c in cells if c["status"] == "done"])
     scenes = sorted({c["scene"] for c in done})
+    roles = [r for r in ("held-out", "tuning", None) if any(c.get("role") == r for c in done)]
+    groups = {scene: [c for c in done if c["scene"] == scene] for scene in scenes}
+    for role in roles:  # held-out and tuning scenes are never averaged together
+        groups["all" if len(roles) == 1 else f"all {role or 'other'}"] = [c for c in done if c.get("role") == role]
     out: dict[str, dict[str, dict]] = {}
-    for scene in [*scenes, "all"]:
-        chosen = [c for c in done if scene == "all" or c["scene"] == scene]
+    for scene, chosen in groups.items():
+        kept = [k for k, _, _ in COLUMNS if not (scene.startswith("all") and k in DISTRIBUTION)]
         rows = {"Removed (unfilled)": {k: _mean([c["removed_scores"].get(k) for c in chosen])
-                                       for k, _, _ in COLUMNS if k not in ("seconds", "gaussians")}}
+                                       for k in kept if k not in ("seconds", "gaussians")}}
         for name in sorted({c["method"] for c in chosen}):
             mine = [c for c in chosen if c["method"] == name]
-            rows[name] = {k: _mean([c.get(k) for c in mine]) for k, _, _ in COLUMNS}
+            rows[name] = {k: _mean([c.get(k) for c in mine]) for k in kept}
         out[scene] = rows
     return out
 
 
-def write_results(cells: list[dict], out: Path) -> None:
+def cell_commit(cell: dict) -> str | None:
+    """The code a finished cell's completion ran (its base run's, for records made before cells kept their own)."""
+    return cell.get("commit") or ((cell.get("settings") or {}).get("versions") or {}).get("commit")
+
+
+class MixedCommits(Exception):
+    """Finished cells of several code versions, to be tabulated only when asked (--mixed-commits)."""
+
+
+def mark_commits(cells: list[dict], mixed: bool) -> list[dict]:
+    """The cells, refused with one line when the finished ones come from more than one code version, unless
+    `mixed`: then each method's name carries its commit, so no table row silently averages two codes."""
+    commits = sorted({str(cell_commit(c)) for c in cells if c["status"] == "done"})
+    if len(commits) <= 1:
+        return cells
+    if not mixed:
+        raise MixedCommits(f"the finished cells come from {len(commits)} commits ({', '.join(commits)}): run them "
+                         "again at one commit, or pass --mixed-commits to tabulate them marked")
+    return [c | {"method": f"{c['method']} @{cell_commit(c)}"} if c["status"] == "done" else c for c in cells]
+
+
+def _hole_line(cells: list[dict], scene: str) -> list[str]:
+    """The scene's hole-mask IoU (mean over its seeds), for the masks that are inpainted and their unseen part."""
+    runs = {c["seed"]: c for c in cells if c["scene"] == scene and c.get("hole_iou") is not None}
+    if not runs:
+        return []
+    inpainted, unseen = (_mean([c.get(k) for c in runs.values()]) for k in ("hole_iou", "unseen_iou"))
+    return [f"Hole masks, mean IoU against the true holes: {inpainted:.3f} as inpainted"
+            + (f", {unseen:.3f} for their unseen part alone" if unseen is not None else ""), ""]
+
+
+def write_results(cells: list[dict], out: Path, mixed: bool = False) -> None:
+    cells = add_shares(mark_commits(cells, mixed))
     (out / "results.json").write_text(json.dumps(cells, indent=1))
     keys = ["scene", "seed", "inpainter", "method", "status", "reason"] + [k for k, _, _ in COLUMNS]
     with open(out / "results.csv", "w", newline="") as f:
@@ -107,9 +174,11 @@ def write_results(cells: list[dict], out: Path) -> None:
         writer.writeheader()
         writer.writerows(cells)
     lines = ["# Benchmark results", ""]
+    roles = {c["scene"]: c.get("role") for c in cells}
     for scene, rows in summarise(cells).items():
-        title = "Averaged over scenes" if scene == "all" else f"Scene: {scene}"
-        lines += [f"## {title}", "", *_table(rows), ""]
+        title = (f"Averaged over {scene[4:]} scenes" if scene.startswith("all ") else "Averaged over scenes"
+                 if scene == "all" else f"Scene: {scene}" + (f" ({roles[scene]})" if roles.get(scene) else ""))
+        lines += [f"## {title}", "", *_hole_line(cells, scene), *_table(rows), ""]
     failed = [c for c in cells if c["status"] == "failed"]
     if failed:
         lines += ["## Failed cells", ""] + [f"- {c['scene']} seed {c['seed']} {c['method']}: {c['reason']}"
@@ -121,6 +190,8 @@ def write_results(cells: list[dict], out: Path) -> None:
     for c in cells:
         for key, reason in (c.get("unavailable") or {}).items():
             reasons.setdefault(reason, set()).add(key)
+    reasons.setdefault("a set metric: not averaged across scenes (in the scene tables only)", set()).update(
+        DISTRIBUTION)
     if reasons:
         lines += ["n/a columns:", ""] + [f"- {', '.join(sorted(keys))}: {reason}" for reason, keys in
                                          sorted(reasons.items())] + [""]
@@ -167,14 +238,15 @@ def run_matrix(matrix: list[tuple[Path, int, str, str]], args: argparse.Namespac
         yield index, run_cell(Stages(scene, seed, work, args), method, inpainter, args)
 
 
-def main(argv: list[str] | None = None) -> int:
+def build_parser() -> argparse.ArgumentParser:
+    """The matrix's flags; a setting left out is the engine's own default (its CLI's and the add-on's)."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--scenes", nargs="+")
     cells = list(benchmark_cells())
     parser.add_argument("--methods", nargs="+", default=["init", "reference", "ft3", "ftall", "direct"], choices=cells,
                         help="benchmark cells, from the completion methods' plug-ins: " + ", ".join(cells))
     parser.add_argument("--list-methods", action="store_true", help="print the benchmark's cells and exit")
-    parser.add_argument("--inpainters", nargs="+", default=["fsr", "telea"])
+    parser.add_argument("--inpainters", nargs="+", default=["telea", "exemplar"])
     parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1])
     parser.add_argument("--out")
     parser.add_argument("--preset", default="default")
@@ -187,9 +259,11 @@ def main(argv: list[str] | None = None) -> int:
                              "warm by default; 0: a tenth of the base run's)")
     parser.add_argument("--max-gaussians", type=int, default=None,
                         help="Gaussian budget of the base runs (default: the preset's, as `engine train` has it)")
-    parser.add_argument("--dilate", type=int, default=4, help="px added to the masks before inpainting")
-    parser.add_argument("--perceptual", default="st-lpips",
-                        help="FT's perceptual term (lpips | st-lpips | l1; st-lpips's weights come with the set-up)")
+    parser.add_argument("--dilate", type=int, default=None,
+                        help="px added to the masks before inpainting (default: `engine inpaint`'s)")
+    parser.add_argument("--perceptual", default=None,
+                        help="FT's perceptual term (lpips | st-lpips | l1; default: the method's, as `engine "
+                             "complete` has it)")
     parser.add_argument("--device", default="auto")
     parser.add_argument("--scheduler", choices=("ray", "serial"), default="ray",
                         help="ray: cells as Ray tasks sharing GPUs (--trainings-per-gpu), on this machine's GPUs "
@@ -202,6 +276,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--report-only", action="store_true",
                         help="run nothing: write the tables, chart and pictures from the cells already finished "
                              "(for example after several runs of single seeds into one --out)")
+    parser.add_argument("--mixed-commits", action="store_true",
+                        help="tabulate finished cells of several code versions, each method named with its commit "
+                             "(refused otherwise)")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    cells = list(benchmark_cells())
     args = parser.parse_args(script_args(argv))
     if args.list_methods:
         print("\n".join(cells))
@@ -215,16 +298,22 @@ def main(argv: list[str] | None = None) -> int:
     matrix = [(Path(s), seed, inp, m) for s in args.scenes for seed in args.seeds for inp in args.inpainters
               for m in args.methods]
     finished: dict[int, dict] = {}
-    start = time.perf_counter()
+    start, refused = time.perf_counter(), ""
     for k, (index, cell) in enumerate(run_matrix(matrix, args, out / "work"), 1):
         finished[index] = cell
         cells = [finished[i] for i in sorted(finished)]
-        write_results(cells, out)
+        try:
+            write_results(cells, out, args.mixed_commits)
+        except MixedCommits as exc:  # the cells still run; the tables wait for one code
+            refused = str(exc)
         bar = "#" * round(20 * k / len(matrix))
         detail = (f"m-PSNR {_fmt(cell['m_psnr'], 'm_psnr')} dB, {cell['seconds']} s" if cell["status"] == "done"
                   else f"{cell['status'].upper()}: {cell['reason']}")
         print(f"[{bar:<20}] {k}/{len(matrix)} {cell['scene']} seed {cell['seed']} {cell['method']}: {detail} "
               f"({time.perf_counter() - start:.0f} s so far)", flush=True)
+    if refused:
+        print(f"no tables: {refused}", flush=True)
+        return 1
     try:  # the PNG once at the end: it takes an engine process
         run_engine(["chart", "--spec", str(out / "speed_accuracy.json"), "--out", str(out / "speed_accuracy.png")])
     except EngineError as exc:

@@ -18,8 +18,9 @@ from addon.engine_call import EngineError, run_engine
 from engine.complete.registry import CompletionMethod, benchmark_cells, get, resolve_options
 from engine.formats.checks import png_size
 from engine.formats.layout import RunLayout, SceneLayout
+from engine.formats.protocol import scene_role
 
-BENCHWIDE_OPTIONS = ("perceptual",)  # options the benchmark sets for every method that has them
+BENCHWIDE_OPTIONS = ("perceptual",)  # options the benchmark sets, when given, for every method that has them
 
 
 class Stages:
@@ -69,21 +70,21 @@ class Stages:
         self.stage("holes", self.run.holes.root, ["holes", "--run", str(self.run.root)])
 
     def inpaint(self, inpainter: str, source: str) -> None:
+        dilate = [] if self.args.dilate is None else ["--dilate", str(self.args.dilate)]
         self.stage(_inpaint_key(inpainter, source), self.run.inpainted(inpainter, source).root,
-                   ["inpaint", "--run", str(self.run.root), "--inpainter", inpainter, "--source", source,
-                    "--dilate", str(self.args.dilate)])
+                   ["inpaint", "--run", str(self.run.root), "--inpainter", inpainter, "--source", source, *dilate])
 
     def prepare(self, inpainter: str, source: str) -> None:
         self.holes() if source == "removed" else self.base()
         self.inpaint(inpainter, source)
 
-    def seconds(self, source: str, inpainter: str, complete: float) -> float:
-        """A method's run time: the stages it needs (Init and FT: train + remove + holes + inpaint +
-        complete; methods that paint the input images: their inpainting + complete)."""
-        if source == "input":
-            return self.times.get(_inpaint_key(inpainter, source), 0) + complete
-        shared = ("train", "remove", "holes", f"inpaint-{inpainter}")
-        return sum(self.times.get(k, 0) for k in shared) + complete
+    def needs(self, source: str, inpainter: str) -> dict[str, float]:
+        """Seconds of each shared stage a cell depends on: the base run and removal always (Direct paints the
+        input images, but its object regions come from the removal), the hole masks where it inpaints the removed
+        renders, and its inpainting."""
+        keys = ("train", "remove", *(("holes",) if source == "removed" else ()), _inpaint_key(inpainter, source))
+        times = {**_json(self.times_file), **self.times}  # under Ray other processes ran some of them
+        return {k: times.get(k, 0.0) for k in keys}
 
 
 def _inpaint_key(inpainter: str, source: str) -> str:
@@ -113,7 +114,8 @@ def cell_method(method: str, args: argparse.Namespace) -> tuple[CompletionMethod
     scenes), --complete-steps for those that train from scratch; 0 leaves the engine's default."""
     spec = benchmark_cells()[method]
     kind = get(spec.method)
-    wide = {k: getattr(args, k) for k in BENCHWIDE_OPTIONS if k in {o.name for o in kind.options}}
+    wide = {k: getattr(args, k) for k in BENCHWIDE_OPTIONS
+            if k in {o.name for o in kind.options} and getattr(args, k, None) is not None}
     options = resolve_options(kind, {**spec.options, **wide})
     return kind, options, args.short_steps if kind.short(options) else args.complete_steps
 
@@ -123,7 +125,8 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
     `engine complete`, unless its scores.json is there already."""
     kind, options, steps = cell_method(method, args)
     name = kind.title(inpainter, options)
-    cell = {"scene": stages.scene.name, "seed": stages.seed, "inpainter": inpainter, "method": name}
+    cell = {"scene": stages.scene.name, "seed": stages.seed, "inpainter": inpainter, "method": name,
+            "role": scene_role(stages.scene)}
     out = stages.run.complete(name)
     if args.report_only and not out.scores_json.is_file():
         return {**cell, "status": "not run", "reason": "not finished when the report was written (--report-only)"}
@@ -143,15 +146,25 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
         report = json.loads(out.scores_json.read_text())
     except EngineError as exc:
         return {**cell, "status": "failed", "reason": str(exc)}
+    needs = stages.needs(kind.source, inpainter)
     return {**cell, "status": "done", **report["scores"], "gaussians": report["gaussians"],
             "settings": cell_settings(stages, inpainter, kind.source, report),
             "scene_dir": str(stages.scene), "renders": str(out.renders),
-            "seconds": round(stages.seconds(kind.source, inpainter, report["seconds"]), 1),
+            "commit": (report.get("versions") or {}).get("commit"), **hole_ious(stages.run),
+            "seconds": round(sum(needs.values()) + report["seconds"], 1), "stages": needs,
+            "complete_seconds": report["seconds"],
             "removed_scores": report["removed_scores"], "unavailable": report["unavailable"],
             "phases": report.get("phases", {}) | process}
 
 
 BASE_KEYS = ("preset", "steps", "max_gaussians", "resolution", "sh_degree", "seed")
+
+
+def hole_ious(run: RunLayout) -> dict:
+    """The hole masks' mean IoU against the scene's true holes: of the masks that are inpainted (`hole_iou`), and
+    of their unseen part alone (`unseen_iou`, which leaves out what the masks add for see-through views)."""
+    holes = _json(run.holes.report)
+    return {"hole_iou": holes.get("mean_iou_vs_truth"), "unseen_iou": holes.get("mean_unseen_iou_vs_truth")}
 
 
 def _json(path: Path) -> dict:
@@ -160,17 +173,19 @@ def _json(path: Path) -> dict:
 
 def cell_settings(stages: Stages, inpainter: str, source: str, report: dict) -> dict:
     """What a finished cell ran with, kept in its record: the base run's settings, GPU and versions (from its
-    config.json and metrics.json), the scene's views and image size, the inpainting's options and the
-    completion's own settings."""
+    config.json and metrics.json), the scene's views and image size, the removal's, hole masks' and inpainting's
+    settings and the completion's own."""
     config, metrics = _json(stages.run.config_json), _json(stages.run.metrics_json)
     split = _json(SceneLayout(stages.scene).split_json)
     images = sorted(p for p in SceneLayout(stages.scene).images.iterdir() if p.is_file())
     pngs = [p for p in images if p.suffix.lower() == ".png"]
     inpainted = _json(stages.run.inpainted(inpainter, source).config_json).get("config", {})
+    removal, holes = _json(stages.run.removed.report), _json(stages.run.holes.report)
     return {"base": {k: config.get(k) for k in BASE_KEYS} | {"gaussians": metrics.get("gaussians"),
                                                            "train_seconds": metrics.get("train_seconds")},
             "scene": {"views": len(images), "train": len(split.get("train", [])), "test": len(split.get("test", [])),
                       "size": list(png_size(pngs[0]) or ()) if pngs else None},
+            "remove": removal.get("config"), "holes": holes.get("config") if source == "removed" else None,
             "inpaint": {k: v for k, v in inpainted.items() if k not in ("run", "removed", "holes", "out")},
             "complete": report.get("config", {}), "gpu": metrics.get("gpu"), "versions": metrics.get("versions")}
 

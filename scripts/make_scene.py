@@ -34,6 +34,7 @@ from addon.engine_call import EngineError, run_engine  # noqa: E402
 from engine.formats.layout import RendersLayout  # noqa: E402
 
 TEST_EVERY = 10  # about 90/10 train/test, as in the paper
+EXTRA_TEST = 60  # test-only views beyond those: FID/KID need 50 images a side (engine.metrics.scores)
 
 
 @dataclass
@@ -48,6 +49,7 @@ class SceneConfig:
     gt: str = "all"
     threads: int = 0
     points: int = 30_000
+    extra_test: int = EXTRA_TEST
 
 
 def parse_args(argv: list[str]) -> SceneConfig:
@@ -63,16 +65,21 @@ def parse_args(argv: list[str]) -> SceneConfig:
                         help="render gt/ for every view or only for test views")
     parser.add_argument("--threads", type=int, default=SceneConfig.threads, help="render threads (0 = all cores)")
     parser.add_argument("--points", type=int, default=SceneConfig.points, help="sparse points in the COLMAP model")
+    parser.add_argument("--extra-test", type=int, default=SceneConfig.extra_test,
+                        help="test-only views on an orbit of their own, beyond the 1 in 10 of --views: the set "
+                             "metrics' images (0 for a quick scene)")
     args = parser.parse_args(argv)
-    if args.views < 2 or args.res < 16 or args.samples < 1:
-        parser.error("need --views >= 2, --res >= 16 and --samples >= 1")
+    if args.views < 2 or args.res < 16 or args.samples < 1 or args.extra_test < 0:
+        parser.error("need --views >= 2, --res >= 16, --samples >= 1 and --extra-test >= 0")
     return SceneConfig(**vars(args))
 
 
-def split_views(names: list[str]) -> dict[str, list[str]]:
-    offset = min(TEST_EVERY // 2, len(names) - 1)  # views 5, 15, 25, ...; at least one test view
+def split_views(names: list[str], extra: list[str] = ()) -> dict[str, list[str]]:
+    """1 in TEST_EVERY of the orbit's views is a test view (views 5, 15, 25, ...; at least one), and every `extra`
+    view is one."""
+    offset = min(TEST_EVERY // 2, len(names) - 1)
     test = [n for i, n in enumerate(names) if i % TEST_EVERY == offset]
-    return {"train": [n for n in names if n not in test], "test": test}
+    return {"train": [n for n in names if n not in test], "test": [*test, *extra]}
 
 
 def build_blender_scene(config: SceneConfig):
@@ -92,8 +99,12 @@ def render_scene(config: SceneConfig, staging: Path) -> None:
     camera = render.add_camera()
     poses = render.orbit_poses(spec.focus, spec.distance, spec.elevation, config.views, config.orbit, rng,
                                spec.arc, spec.facing)
-    names = [f"{i:04d}.png" for i in range(config.views)]
-    split = split_views(names)
+    # the extra test views: an orbit of their own (another start, so between the training views), drawn after the
+    # training views' so that a scene's training views are the same with or without them
+    poses += render.orbit_poses(spec.focus, spec.distance, spec.elevation, config.extra_test, config.orbit, rng,
+                                spec.arc, spec.facing) if config.extra_test else []
+    names = [f"{i:04d}.png" for i in range(config.views + config.extra_test)]
+    split = split_views(names[:config.views], names[config.views:])
     objects = [{"id": obj.pass_index, "name": obj.name, "target": target} for obj, target in spec.objects]
     renders = RendersLayout(staging)
     renders.cameras_json.write_text(json.dumps(

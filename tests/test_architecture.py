@@ -89,7 +89,7 @@ def test_an_option_of_another_method_is_refused_not_ignored():
     from engine.base.errors import InputError
     from engine.complete.registry import get, resolve_options
 
-    assert resolve_options(get("ft"), {"refs": 0, "recolmap": False}) == {"refs": 0, "perceptual": "lpips"}
+    assert resolve_options(get("ft"), {"refs": 0, "recolmap": False}) == {"refs": 0, "perceptual": "st-lpips"}
     with pytest.raises(InputError, match="--recolmap is not an option of --method ft"):
         resolve_options(get("ft"), {"recolmap": True})
 

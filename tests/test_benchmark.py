@@ -101,6 +101,25 @@ def test_cells_that_continue_from_the_base_run_take_the_short_steps_and_the_scra
     assert cell_method("init-scratch", args)[1]["warm"] is False and cell_method("init", args)[1]["warm"]
 
 
+def test_the_benchmark_runs_the_shipped_defaults_unless_told_otherwise(tmp_path: Path, monkeypatch):
+    """With no flags a cell is what a user gets from the CLI: FT's perceptual term is the method's default, and the
+    inpainting is called without --dilate so InpaintConfig's default applies (the table once ran dilate 4 and
+    ST-LPIPS while the CLI shipped 0 and LPIPS)."""
+    import benchmark
+    import benchmark_stages
+    from benchmark_stages import Stages, cell_method
+
+    from engine.complete.registry import get
+
+    args = benchmark.build_parser().parse_args(["--scenes", "S", "--out", str(tmp_path)])
+    default = {o.name: o.default for o in get("ft").options}["perceptual"]
+    assert cell_method("ft3", args)[1]["perceptual"] == default
+    calls = []
+    monkeypatch.setattr(benchmark_stages, "run_engine", lambda a: calls.append(a))
+    Stages(tmp_path / "scene", 0, tmp_path / "work", args).inpaint("telea", "removed")
+    assert calls and "--dilate" not in calls[0]
+
+
 def test_an_inpainting_task_shares_a_gpu_with_the_trainings_and_no_more_trainings_than_asked_share_one():
     """Ray packs tasks onto a GPU while their shares add up to at most one (in units of 1e-4)."""
     from benchmark_ray import task_resources

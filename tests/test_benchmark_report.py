@@ -40,3 +40,69 @@ def test_chart_has_a_row_per_scene_a_mean_row_and_numbered_methods():
     assert chart["height"] > 3 * HEIGHT
     unfilled = [item for item in chart["items"] if item[0] == "text" and item[3] == "unfilled"]
     assert len(unfilled) == 6  # the unfilled scene's line in every panel
+
+
+def test_run_time_is_end_to_end_and_each_cell_carries_its_share_of_the_shared_stages():
+    """Two cells of one scene share a 100 s base run and removal; Direct paints the inputs (no holes) but waits
+    for them too: end to end it is 100 + 20 + 30 + 10 s, its share 60 + 30 + 10 (the others split holes)."""
+    from benchmark import add_shares
+
+    base = {"train": 100.0, "remove": 20.0}
+    init = cell("a", "Init-telea", 19.0) | {"stages": base | {"holes": 6.0, "inpaint-telea": 8.0},
+                                             "complete_seconds": 50.0}
+    direct = cell("a", "Direct-telea", 18.0) | {"stages": base | {"inpaint-direct-telea": 30.0},
+                                                 "complete_seconds": 10.0}
+    shared = add_shares([init, direct])
+    assert shared[1]["share_seconds"] == 50 + 10 + 30 + 10 and shared[0]["share_seconds"] == 60 + 6 + 8 + 50
+
+
+def test_set_metrics_are_not_averaged_across_scenes_and_a_negative_kid_ties_with_zero():
+    from benchmark import _table, summarise
+
+    cells = [cell(s, m, 19.0) | {"fid": f, "kid": k} for s, m, f, k in
+             (("a", "Init-telea", 40.0, -0.01), ("a", "Ref-telea", 50.0, 0.0), ("b", "Init-telea", 30.0, 0.02))]
+    summary = summarise(cells)
+    assert summary["all"]["Init-telea"].get("fid") is None and summary["a"]["Init-telea"]["fid"] == 40.0
+    rows = {line.split(" | ")[0]: line for line in _table(summary["a"])}
+    assert "**-0.0100**" in rows["| Init-telea"] and "**0.0000**" in rows["| Ref-telea"]  # a tie at zero
+
+
+def test_cells_of_two_commits_are_refused_in_one_table_unless_asked_and_then_named_by_commit(tmp_path: Path):
+    import pytest
+    from benchmark import MixedCommits, write_results
+
+    cells = [cell("a", "Init-telea", 19.0) | {"commit": "abc1234"}, cell("a", "Ref-telea", 20.0) | {"commit": "def5678"}]
+    with pytest.raises(MixedCommits, match="2 commits"):
+        write_results(cells, tmp_path)
+    write_results(cells, tmp_path, mixed=True)
+    text = (tmp_path / "tables.md").read_text()
+    assert "| Init-telea @abc1234 |" in text and "| Ref-telea @def5678 |" in text
+
+
+def test_held_out_and_tuning_scenes_are_averaged_apart_and_a_tuning_tool_refuses_a_held_out_scene(tmp_path: Path):
+    import json
+
+    import pytest
+    from benchmark import summarise
+
+    from engine.base.errors import InputError
+    from engine.formats.protocol import refuse_held_out, scene_role
+
+    for name, seed in (("held", 117), ("tuned", 3)):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "scene.json").write_text(json.dumps({"generator": "scripts/make_scene.py", "seed": seed}))
+    assert scene_role(tmp_path / "held") == "held-out" and scene_role(tmp_path / "tuned") == "tuning"
+    assert scene_role(tmp_path) is None  # a capture: no generator seed
+    with pytest.raises(InputError, match="held-out scene"):
+        refuse_held_out(tmp_path / "held", "removal_sweep.py")
+    refuse_held_out(tmp_path / "tuned", "removal_sweep.py")
+    cells = [cell("a", "Init-telea", 19.0) | {"role": "held-out"}, cell("b", "Init-telea", 25.0) | {"role": "tuning"}]
+    summary = summarise(cells)
+    assert summary["all held-out"]["Init-telea"]["m_psnr"] == 19.0 and "all" not in summary
+
+
+def test_a_scene_table_gives_the_hole_iou_of_the_masks_inpainted_before_their_unseen_part(tmp_path: Path):
+    from benchmark import write_results
+
+    write_results([cell("a", "Init-telea", 19.0) | {"hole_iou": 0.54, "unseen_iou": 0.93}], tmp_path)
+    assert "0.540 as inpainted, 0.930 for their unseen part alone" in (tmp_path / "tables.md").read_text()

@@ -318,7 +318,7 @@ def test_finetune_without_lpips_weights_says_how_to_go_on(stages, tmp_path, monk
     with pytest.raises(InputError, match="--perceptual st-lpips or l1"):
         run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainted=str(fsr_for_ft(stages)),
                                     removed=str(stages["removed"]), holes=str(stages["holes"]),
-                                    out=str(tmp_path / "ft"), device="cpu"))
+                                    options={"perceptual": "lpips"}, out=str(tmp_path / "ft"), device="cpu"))
 
 
 def test_recolmap_is_for_new_scenes_and_stops_cleanly_where_colmap_cannot_register(stages, tmp_path):

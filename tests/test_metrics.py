@@ -144,7 +144,7 @@ def test_masked_lpips_and_m_fid_use_the_hole_region(tmp_path, monkeypatch):
     torch.manual_seed(0)
     torch.save(FidInception(load=False).state_dict(), tmp_path / "inception.pth")
     config = ScoreConfig(lpips_backbone=str(backbone), lpips_heads=str(heads),
-                         fid_weights=str(tmp_path / "inception.pth"))
+                         fid_weights=str(tmp_path / "inception.pth"), min_set=3)
     rng = np.random.default_rng(0)
     truths = [rng.integers(0, 255, (80, 120, 3), dtype=np.uint8) for _ in range(3)]
     holes = [np.zeros((80, 120), bool) for _ in range(3)]
@@ -160,6 +160,9 @@ def test_masked_lpips_and_m_fid_use_the_hole_region(tmp_path, monkeypatch):
     assert set(result.unavailable) == {"st_lpips", "m_st_lpips"}  # no ST-LPIPS file named here
     rows, cols = hole_crop(holes[0])
     assert rows.stop - rows.start == cols.stop - cols.start == 64  # 30 x 1.5 = 45, raised to 64
+    few = score_views(far, truths, holes, ScoreConfig(fid_weights=str(tmp_path / "inception.pth")))
+    assert few.values["fid"] is None and few.values["m_kid"] is None  # 3 images a side: n/a at the default 50
+    assert "over 3 images a side" in few.unavailable["fid"]
     assert holes[0][rows, cols].sum() == holes[0].sum()  # the crop holds the whole hole
 
 

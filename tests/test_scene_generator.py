@@ -129,6 +129,21 @@ def test_gt_test_renders_ground_truth_only_for_test_views(tmp_path: Path):
     assert sorted(scene.gt_images) == sorted(scene.holes) == scene.test
 
 
+@pytest.mark.slow
+def test_extra_test_views_are_test_only_with_ground_truth_and_leave_the_training_views_as_they_were(tmp_path: Path):
+    """--extra-test 3 adds three test views on an orbit of their own (the set metrics' images); the training
+    views and their poses are those of the same scene without them."""
+    args = ["--views", "6", "--res", "32", "--samples", "1", "--gt", "test"]
+    make_scene(tmp_path / "plain", "statue", args)
+    make_scene(tmp_path / "extra", "statue", [*args, "--extra-test", "3"])
+    plain, extra = load_scene(tmp_path / "plain"), load_scene(tmp_path / "extra")
+    names = [c.name for c in extra.cameras]
+    assert [names[i] for i in extra.test] == ["0005.png", "0006.png", "0007.png", "0008.png"]
+    assert [names[i] for i in extra.train] == [plain.cameras[i].name for i in plain.train]
+    assert all(np.allclose(extra.cameras[i].R, plain.cameras[i].R) for i in plain.train)
+    assert sorted(extra.gt_images) == extra.test and not np.allclose(extra.cameras[6].R, extra.cameras[5].R)
+
+
 @pytest.mark.parametrize("problem", ["existing", "engine"])
 def test_make_scene_refuses_bad_runs_with_one_line(tmp_path: Path, problem: str):
     out = tmp_path / "scene"

@@ -155,7 +155,8 @@ def _perceptual_network(perceptual: str, lpips_paths: tuple[str, str], device: t
 
         return Lpips(*lpips_paths).to(device)
     except InputError as exc:
-        raise InputError(f"{exc} (or finetune with --perceptual st-lpips or l1, which the results then name)") from exc
+        others = " or ".join(p for p in ("st-lpips", "lpips", "l1") if p != perceptual)
+        raise InputError(f"{exc} (or finetune with --perceptual {others}, which the results then name)") from exc
 
 
 def finetune_setup(settings: TrainConfig, original: TrainedRun, removed: RemovedLayout, inpainted: InpaintedLayout,

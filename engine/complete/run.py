@@ -27,6 +27,7 @@ from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir, check_new_output
 from engine.base.progress import emit
+from engine.base.versions import gpu_name, versions
 from engine.complete.registry import CompletionMethod, all_options, get, methods, resolve_options
 from engine.complete.scoring import score_removed, score_run
 from engine.complete.training_scene import write_training_scene
@@ -200,7 +201,8 @@ def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | Non
               "phases": {k: round(v, 2) for k, v in clock.items()},
               "gaussians": metrics["gaussians"], "scores": scores.values, "unavailable": scores.unavailable,
               "removed_scores": baseline.values, "recolmap": colmap,
-              "turntable": video and str(video.relative_to(out.root))}
+              "turntable": video and str(video.relative_to(out.root)), "gpu": gpu_name(job.device),
+              "versions": versions()}
     partial = out.root / ".scores.json.tmp"
     partial.write_text(json.dumps(report, indent=1))
     partial.replace(out.scores_json)  # written last: a folder with scores.json is a finished cell

@@ -15,7 +15,9 @@ metric):
   the box's longer side times (1 + 2 x CROP_MARGIN) and at least MIN_CROP pixels, moved inside the image;
   the same crop of render and truth, resized to 299 by the Inception as whole images are.
 LPIPS and FID need weights from the user (engine.metrics.lpips_metric, engine.metrics.fid_inception). Without them those
-columns are None and `unavailable` says why, so a table can print `n/a` with the reason.
+columns are None and `unavailable` says why, so a table can print `n/a` with the reason. FID and KID over fewer than
+`min_set` images a side are None too: over the 10 test views of a scene they ranked methods by noise (KID came out
+negative in many cells, and the most negative was marked best).
 """
 
 from __future__ import annotations
@@ -40,6 +42,7 @@ class ScoreConfig:
     fid_weights: str = ""  # pt_inception-2015-12-05-6726825d.pth; default FID_INCEPTION or torch's hub cache
     st_lpips_weights: str = ""  # alex_shift_tolerant.pth; default ST_LPIPS_WEIGHTS or the set-up's .weights/
     device: str = "cpu"  # where the metric networks run
+    min_set: int = 50  # FID/KID over fewer images a side are n/a: too few to rank by
 
 
 @dataclass
@@ -126,16 +129,18 @@ class Scorer:
                 crops[0].append(render[rows, cols])
                 crops[1].append(truth[rows, cols])
         values = {k: _mean(v) for k, v in per_view.items()}
-        values.update(_set_scores(self.inception, renders, truths, "", device))
-        values.update(_set_scores(self.inception, *crops, "m_", device))
+        minimum = max(2, self.config.min_set)
+        values.update(_set_scores(self.inception, renders, truths, "", device, minimum))
+        values.update(_set_scores(self.inception, *crops, "m_", device, minimum))
         unavailable: dict[str, str] = {}
         for kind, keys in (("lpips", ("lpips", "m_lpips")), ("st_lpips", ("st_lpips", "m_st_lpips")),
                            ("fid", ("fid", "kid", "m_fid", "m_kid"))):
             if kind in self.missing:
                 unavailable.update({key: self.missing[kind] for key in keys})
-        for key in ("fid", "kid", "m_fid", "m_kid"):
+        for key, count in (("fid", len(renders)), ("kid", len(renders)), ("m_fid", len(crops[0])),
+                           ("m_kid", len(crops[0]))):
             if values[key] is None and key not in unavailable:
-                unavailable[key] = "needs at least 2 test views with a hole"
+                unavailable[key] = f"over {count} images a side; a distribution metric needs at least {minimum}"
         return Scores(values=values, unavailable=unavailable)
 
 
@@ -145,9 +150,9 @@ def score_views(renders: list[np.ndarray], truths: list[np.ndarray], holes: list
     return Scorer(config).score(renders, truths, holes)
 
 
-def _set_scores(inception, renders: list[np.ndarray], truths: list[np.ndarray], prefix: str, device: str
-                ) -> dict[str, float | None]:
-    if inception is None or len(renders) < 2:
+def _set_scores(inception, renders: list[np.ndarray], truths: list[np.ndarray], prefix: str, device: str,
+                minimum: int) -> dict[str, float | None]:
+    if inception is None or len(renders) < minimum:
         return {f"{prefix}fid": None, f"{prefix}kid": None}
 
     def features(images: list[np.ndarray]) -> np.ndarray:
