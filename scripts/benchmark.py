@@ -67,12 +67,17 @@ def _fmt(value, key: str) -> str:
     return f"{value:.4f}" if key in four else f"{value:.2f}"
 
 
+def _ranked(row: str) -> bool:
+    """Methods are ranked; the unfilled floor and the oracles' ceiling are references beside them."""
+    return row != "Removed (unfilled)" and not row.startswith("Oracle")
+
+
 def _table(rows: dict[str, dict[str, float | None]]) -> list[str]:
     lines = ["| Method | " + " | ".join(label for _, label, _ in COLUMNS) + " |",
              "|---" * (len(COLUMNS) + 1) + "|"]
     best = {}
     for key, _, pick in COLUMNS:
-        values = [r[key] for name, r in rows.items() if r.get(key) is not None and name != "Removed (unfilled)"]
+        values = [r[key] for name, r in rows.items() if r.get(key) is not None and _ranked(name)]
         best[key] = _best(values, key, pick) if pick and values else None
 
     def shown(value, key: str) -> float | None:
@@ -80,11 +85,12 @@ def _table(rows: dict[str, dict[str, float | None]]) -> list[str]:
 
     for name, r in rows.items():
         cells = [(f"**{_fmt(r.get(key), key)}**" if best[key] is not None and shown(r.get(key), key) == best[key]
-                  and name != "Removed (unfilled)" else _fmt(r.get(key), key)) for key, _, _ in COLUMNS]
+                  and _ranked(name) else _fmt(r.get(key), key)) for key, _, _ in COLUMNS]
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
     return lines
 
 
+ORACLES = (("flat", "Oracle: truth's mean colour"), ("blur", "Oracle: truth blurred 4 px"))  # never ranked
 DISTRIBUTION = ("fid", "m_fid", "kid", "m_kid")  # set metrics: never averaged across scenes (METRICS.md)
 
 
@@ -127,6 +133,10 @@ def summarise(cells: list[dict]) -> dict[str, dict[str, dict]]:
         kept = [k for k, _, _ in COLUMNS if not (scene.startswith("all") and k in DISTRIBUTION)]
         rows = {"Removed (unfilled)": {k: _mean([c["removed_scores"].get(k) for c in chosen])
                                        for k in kept if k not in ("seconds", "gaussians")}}
+        for oracle, label in ORACLES:
+            scores = [(c.get("oracle_scores") or {}).get(oracle) or {} for c in chosen]
+            if any(scores):
+                rows[label] = {k: _mean([o.get(k) for o in scores]) for k in ("psnr", "ssim", "m_psnr", "m_ssim")}
         for name in sorted({c["method"] for c in chosen}):
             mine = [c for c in chosen if c["method"] == name]
             rows[name] = {k: _mean([c.get(k) for c in mine]) for k in kept}

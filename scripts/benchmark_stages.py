@@ -153,7 +153,8 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
             "commit": (report.get("versions") or {}).get("commit"), **hole_ious(stages.run),
             "seconds": round(sum(needs.values()) + report["seconds"], 1), "stages": needs,
             "complete_seconds": report["seconds"],
-            "removed_scores": report["removed_scores"], "unavailable": report["unavailable"],
+            "removed_scores": report["removed_scores"], "oracle_scores": report.get("oracle_scores"),
+            "unavailable": report["unavailable"],
             "phases": report.get("phases", {}) | process}
 
 

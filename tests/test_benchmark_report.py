@@ -106,3 +106,13 @@ def test_a_scene_table_gives_the_hole_iou_of_the_masks_inpainted_before_their_un
 
     write_results([cell("a", "Init-telea", 19.0) | {"hole_iou": 0.54, "unseen_iou": 0.93}], tmp_path)
     assert "0.540 as inpainted, 0.930 for their unseen part alone" in (tmp_path / "tables.md").read_text()
+
+
+def test_the_oracles_stand_beside_the_methods_unranked():
+    from benchmark import _table, summarise
+
+    oracle = {"flat": {"m_psnr": 24.0}, "blur": {"m_psnr": 30.0}}
+    rows = summarise([cell("a", "Init-telea", 19.0) | {"oracle_scores": oracle}])["a"]
+    assert rows["Oracle: truth blurred 4 px"]["m_psnr"] == 30.0
+    lines = {line.split(" | ")[0]: line for line in _table(rows)}
+    assert "**30.00**" not in lines["| Oracle: truth blurred 4 px"] and "**19.00**" in lines["| Init-telea"]

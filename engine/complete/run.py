@@ -29,7 +29,7 @@ from engine.base.output_dir import atomic_output_dir, check_new_output
 from engine.base.progress import emit
 from engine.base.versions import gpu_name, versions
 from engine.complete.registry import CompletionMethod, all_options, get, methods, resolve_options
-from engine.complete.scoring import score_removed, score_run
+from engine.complete.scoring import score_oracles, score_removed, score_run
 from engine.complete.training_scene import write_training_scene
 from engine.formats.layout import CompleteLayout, HolesLayout, InpaintedLayout, RemovedLayout, SceneLayout
 from engine.metrics.scores import ScoreConfig, Scorer
@@ -200,7 +200,8 @@ def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | Non
     report = {"method": name, "out": str(out.root), "config": settings, "seconds": round(seconds, 1),
               "phases": {k: round(v, 2) for k, v in clock.items()},
               "gaussians": metrics["gaussians"], "scores": scores.values, "unavailable": scores.unavailable,
-              "removed_scores": baseline.values, "recolmap": colmap,
+              "removed_scores": baseline.values, "oracle_scores": score_oracles(job.original.scene),
+              "recolmap": colmap,
               "turntable": video and str(video.relative_to(out.root)), "gpu": gpu_name(job.device),
               "versions": versions()}
     partial = out.root / ".scores.json.tmp"

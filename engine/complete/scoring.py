@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import cv2
 import numpy as np
 
 from engine.base.device import pick_device
@@ -19,10 +20,11 @@ from engine.io.image_io import read_png, write_png
 from engine.io.masks import dilate
 from engine.io.scene import Scene
 from engine.metrics.image_metrics import psnr_from_mse
-from engine.metrics.scores import Scorer, Scores
+from engine.metrics.scores import Scorer, Scores, pixel_scores
 from engine.render.render_views import render_pictures
 from engine.train.trained_run import load_run, load_splats
 
+ORACLE_BLUR = 4.0  # px: sigma of the blurred-truth oracle
 OUTSIDE_MARGIN = 8  # px around the object's region and effects left out of psnr_outside (soft edges, blur)
 NO_GT = "no gt/: a capture has no picture without the object (psnr_outside is the reference-free score)"
 
@@ -58,6 +60,22 @@ def score_removed(scene: Scene, removed: RemovedLayout, scorer: Scorer) -> Score
     views = scene.test
     renders = [read_png(removed.images / scene.cameras[i].name, size=scene.cameras[i].size) for i in views]
     return _scores(scene, views, renders, scorer, removed)
+
+
+def score_oracles(scene: Scene) -> dict[str, dict] | None:
+    """Pixel scores of two fills no method can beat without knowing the texture, beside which a table shows how
+    much any fill could still gain: the true hole filled with the truth's mean colour over it (`flat`), and the
+    truth blurred by ORACLE_BLUR px inside it (`blur`, the texture's coarse shape). None without gt/."""
+    if not has_truth(scene):
+        return None
+    truths = [scene.gt_images[i] for i in scene.test]
+    holes = [scene.holes[i] for i in scene.test]
+    flat, blur = [], []
+    for truth, hole in zip(truths, holes, strict=True):
+        mean = truth[hole].mean(axis=0).round() if hole.any() else 0
+        flat.append(np.where(hole[..., None], mean, truth).astype(np.uint8))
+        blur.append(np.where(hole[..., None], cv2.GaussianBlur(truth, (0, 0), ORACLE_BLUR), truth))
+    return {"flat": pixel_scores(flat, truths, holes), "blur": pixel_scores(blur, truths, holes)}
 
 
 def _scores(scene: Scene, views: list[int], pictures: list[np.ndarray], scorer: Scorer,

@@ -95,6 +95,16 @@ def _mean(values: list[float | None]) -> float | None:
     return float(np.mean(kept)) if kept else None
 
 
+def pixel_scores(renders: list[np.ndarray], truths: list[np.ndarray], holes: list[np.ndarray]
+                 ) -> dict[str, float | None]:
+    """PSNR, SSIM and their masked variants alone (no networks), averaged over the views: for fills whose
+    perceptual and set scores nobody ranks (the oracles)."""
+    per_view = [_pixel_scores(torch.as_tensor(r).float() / 255, torch.as_tensor(t).float() / 255,
+                              torch.as_tensor(h, dtype=torch.bool)) for r, t, h in zip(renders, truths, holes,
+                                                                                       strict=True)]
+    return {k: _mean([v[k] for v in per_view]) for k in ("psnr", "ssim", "m_psnr", "m_ssim")}
+
+
 class Scorer:
     """The metric networks, loaded once (or their absence, with the reason), for scoring several view sets."""
 
