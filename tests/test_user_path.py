@@ -21,18 +21,12 @@ import cv2
 import numpy as np
 import pytest
 
+from benchmarks.capture_path import readme_commands
 from engine.pictures.video import count_frames
 from tests.conftest import REPO, make_scene, setup_weight
 
 pytestmark = pytest.mark.slow
 SIDE = {6: cv2.ROTATE_90_COUNTERCLOCKWISE, 8: cv2.ROTATE_90_CLOCKWISE}  # how a phone stores a portrait photo
-
-
-def readme_commands() -> list[str]:
-    text = (REPO / "README.md").read_text()
-    section = text[text.index("## Your own capture"):]
-    block = section[section.index("```sh") + 5:section.index("```", section.index("```sh") + 5)]
-    return [line.split("#")[0].strip() for line in block.splitlines() if line.startswith(".venv/bin/python")]
 
 
 def exif_jpeg(bgr: np.ndarray, orientation: int) -> bytes:
