@@ -7,9 +7,9 @@ from __future__ import annotations
 
 try:
     from ..engine.base.errors import InputError
-    from ..engine.formats import cameras, checks, colmap_files, layout, splat_ply
+    from ..engine.formats import cameras, checks, colmap_files, layout, splat_files, splat_ply
 except ImportError:  # addon/ is itself top-level: nothing above it to be relative to
     from engine.base.errors import InputError
-    from engine.formats import cameras, checks, colmap_files, layout, splat_ply
+    from engine.formats import cameras, checks, colmap_files, layout, splat_files, splat_ply
 
-__all__ = ["InputError", "cameras", "checks", "colmap_files", "layout", "splat_ply"]
+__all__ = ["InputError", "cameras", "checks", "colmap_files", "layout", "splat_files", "splat_ply"]

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .formats import InputError, checks, layout, splat_ply
+from .formats import InputError, checks, layout, splat_files, splat_ply
 
 
 @dataclass
@@ -29,7 +29,7 @@ def read_splats(path: Path) -> Splats:
     """The proxies' data for `path`, grouped by identity when a classifier.npz sits beside it or in the
     run folder above it (a removal's output lies in RUN/removed/)."""
     path = Path(path)
-    v = splat_ply.read_vertices(path)
+    v = splat_files.read_splat_file(path)
     columns = lambda prefix, n: np.stack([v[f"{prefix}{i}"] for i in range(n)], axis=1).astype(np.float32)  # noqa: E731
     rotations = columns("rot_", 4)
     rotations /= np.maximum(np.linalg.norm(rotations, axis=1, keepdims=True), 1e-12)

@@ -63,10 +63,9 @@ def measure(scene: Path, run: Path, thresholds: list[float], tolerances: list[fl
 
 
 def run_bench(args: argparse.Namespace) -> None:
+    from engine.formats.protocol import refuse_held_out
     from engine.train.config import TrainConfig
     from engine.train.run import train
-
-    from engine.formats.protocol import refuse_held_out
 
     scene = Path(args.scene)
     refuse_held_out(scene, "removal_sweep.py")

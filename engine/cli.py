@@ -75,6 +75,14 @@ def _import_splat(args: argparse.Namespace) -> None:
           f"the scene's images", file=sys.stderr)
 
 
+def _export(args: argparse.Namespace) -> None:
+    from engine.io.export import ExportConfig, export
+    from engine.train.config import config_from_args
+
+    out = export(config_from_args(args, ExportConfig))
+    print(f"wrote {out}", file=sys.stderr)
+
+
 def _segment(args: argparse.Namespace) -> None:
     from engine.base.output_dir import check_new_output
     from engine.formats.layout import RunLayout
@@ -298,7 +306,14 @@ def build_parser() -> argparse.ArgumentParser:
     add_config_arguments(p, SegmentConfig, required=("run",))
     p.set_defaults(handler=_segment)
 
-    p = sub.add_parser("import-splat", help="make a run from a .ply trained elsewhere and its COLMAP scene")
+    from engine.io.export import ExportConfig
+
+    p = sub.add_parser("export", help="a run's scene (trained, removed or completed) as .ply, compressed .ply, "
+                                      ".splat or .spz for other splat tools")
+    add_config_arguments(p, ExportConfig, required=("run",))
+    p.set_defaults(handler=_export)
+    p = sub.add_parser("import-splat", help="make a run from a splat file trained elsewhere (.ply, compressed "
+                                            ".ply, .splat, .spz) and its COLMAP scene")
     add_config_arguments(p, ImportConfig, required=("ply", "scene", "out"))
     p.set_defaults(handler=_import_splat)
     from engine.complete.run import add_arguments

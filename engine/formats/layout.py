@@ -16,6 +16,7 @@ A run folder (`python -m engine train`), and what each later stage adds to it:
                images/ depth/ config.json sheet_test.png sheet_train.png
     complete/<Method name>/  scene/ (a scene folder) run/ (a run folder) renders/ scores.json   complete
                [recolmap.json]
+    exports/   <stage>.ply .compressed.ply .splat .spz (for other splat tools)            export
 """
 
 from __future__ import annotations
@@ -285,6 +286,11 @@ class RunLayout(_Folder):
 
     def complete(self, method_name: str) -> CompleteLayout:
         return CompleteLayout(self.root / "complete" / method_name)
+
+    @property
+    def exports(self) -> Path:
+        """`export`'s files for other splat tools, by default (engine.io.export)."""
+        return self.root / "exports"
 
 
 @dataclass(frozen=True)

@@ -10,11 +10,11 @@ import numpy as np
 import torch
 
 from engine.base.errors import InputError
+from engine.formats.splat_files import read_splat_file
 from engine.formats.splat_ply import (
     IDENTITY_DIM,
     property_names,
     read_classifier,
-    read_vertices,
     write_classifier,
     write_vertices,
 )
@@ -35,8 +35,9 @@ def save_ply(path: Path, gaussians: Gaussians) -> None:
 
 
 def load_ply(path: Path) -> Gaussians:
-    """Read a 3DGS .ply (ours or any standard one); identity is zero when the file has none."""
-    vertex = read_vertices(Path(path))
+    """Read a splat file (ours or any standard .ply, a compressed .ply, .splat or .spz; engine.formats.splat_files);
+    identity is zero when the file has none."""
+    vertex = read_splat_file(Path(path))
     fields = set(vertex.dtype.names)
     n_rest = sum(1 for f in fields if f.startswith("f_rest_"))
     n, k = len(vertex), n_rest // 3

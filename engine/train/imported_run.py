@@ -32,7 +32,7 @@ MIN_PSNR = 15.0  # dB on the test views; below it the .ply and the cameras hardl
 
 @dataclass
 class ImportConfig:
-    ply: str = ""  # a standard 3DGS .ply
+    ply: str = ""  # a splat file: standard 3DGS .ply, compressed .ply, .splat or .spz
     scene: str = ""  # the COLMAP scene folder it was trained on (images/, sparse/0/)
     out: str = ""  # the new run folder
     resolution: int = 1  # the resolution the splat is checked at (1, 2, 4, 8), kept for later stages
