@@ -71,7 +71,8 @@ def test_cells_of_two_commits_are_refused_in_one_table_unless_asked_and_then_nam
     import pytest
     from benchmark import MixedCommits, write_results
 
-    cells = [cell("a", "Init-telea", 19.0) | {"commit": "abc1234"}, cell("a", "Ref-telea", 20.0) | {"commit": "def5678"}]
+    cells = [cell("a", "Init-telea", 19.0) | {"commit": "abc1234"},
+             cell("a", "Ref-telea", 20.0) | {"commit": "def5678"}]
     with pytest.raises(MixedCommits, match="2 commits"):
         write_results(cells, tmp_path)
     write_results(cells, tmp_path, mixed=True)
