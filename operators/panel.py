@@ -28,6 +28,7 @@ class SPLATFILL_PT_pipeline(bpy.types.Panel):
         col.operator("splatfill.complete", icon="CHECKMARK")
         col.operator("splatfill.evaluate", icon="GRAPH")
         col.operator("splatfill.turntable", icon="RENDER_ANIMATION")
+        col.operator("splatfill.export", icon="EXPORT")
         col.operator("splatfill.check_engine", icon="CONSOLE")
         obj = context.active_object
         if obj is not None and "splatfill_group" in obj:

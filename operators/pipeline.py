@@ -105,11 +105,12 @@ class SPLATFILL_OT_import_colmap(EngineOperator, bpy.types.Operator):
 
 class SPLATFILL_OT_import_splats(bpy.types.Operator):
     bl_idname = "splatfill.import_splats"
-    bl_label = "Import Gaussian Splats (.ply)"
-    bl_description = "Import a 3DGS .ply as point-instanced proxies, one object per identity group"
+    bl_label = "Import Gaussian Splats"
+    bl_description = ("Import a splat file (3DGS .ply, SuperSplat's compressed .ply, .splat or .spz) as "
+                      "point-instanced proxies, one object per identity group")
     bl_options = {"REGISTER", "UNDO"}
     filepath: bpy.props.StringProperty(subtype="FILE_PATH")
-    filter_glob: bpy.props.StringProperty(default="*.ply", options={"HIDDEN"})
+    filter_glob: bpy.props.StringProperty(default="*.ply;*.splat;*.spz", options={"HIDDEN"})
 
     def invoke(self, context, event):
         context.window_manager.fileselect_add(self)
@@ -292,9 +293,49 @@ class SPLATFILL_OT_turntable(EngineOperator, bpy.types.Operator):
         return f"turntable: {done['out']} ({done['frames']} frames)"
 
 
+EXPORT_FORMATS = (("ply", "3DGS .ply", "the standard INRIA layout every splat tool reads", ".ply"),
+                  ("compressed-ply", "Compressed .ply", "SuperSplat's, about a quarter of the size", ".compressed.ply"),
+                  ("splat", ".splat", "antimatter15's web viewer layout (no view-dependent colour)", ".splat"),
+                  ("spz", ".spz", "Niantic's compressed format", ".spz"))
+
+
+class SPLATFILL_OT_export(EngineOperator, bpy.types.Operator):
+    bl_idname = "splatfill.export"
+    bl_label = "Export Splats"
+    bl_description = ("Write the active collection's scene (trained, removed or completed) as a splat file other "
+                      "tools open: .ply, compressed .ply, .splat or .spz")
+    bl_options = {"REGISTER"}  # writes a file, changes nothing in Blender: nothing to undo
+    filepath: bpy.props.StringProperty(subtype="FILE_PATH")
+    format: bpy.props.EnumProperty(name="Format", items=[f[:3] for f in EXPORT_FORMATS], default="ply")
+    with_identities: bpy.props.BoolProperty(name="Keep identities", default=False,
+                                            description=".ply: keep splatfill's 16 identity fields (only it reads "
+                                                        "them)")
+
+    def invoke(self, context, event):
+        c = run_collection(context)
+        self.filepath = str(Path(c["splatfill_run"]) / f"{bpy.path.clean_name(c.name)}.ply")
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+    def engine_args(self, context, device):
+        c = run_collection(context)
+        suffix = next(f[3] for f in EXPORT_FORMATS if f[0] == self.format)
+        out = Path(bpy.path.abspath(self.filepath))
+        name = out.name.removesuffix(".compressed.ply").removesuffix(out.suffix) if out.suffix else out.name
+        self._out = out.with_name(name + suffix)
+        stage = ["--stage", c["splatfill_removed"]] if "splatfill_removed" in c else []
+        identities = ["--with-identities"] if self.with_identities else []
+        return ["export", "--run", c["splatfill_run"], *stage, "--format", self.format, "--out", str(self._out),
+                *identities]
+
+    def finish(self, context, records):
+        done = done_record(records, "export")
+        return f"exported {done['gaussians']} Gaussians as {done['format']}: {done['out']}"
+
+
 CLASSES = (SPLATFILL_OT_import_colmap, SPLATFILL_OT_import_splats, SPLATFILL_OT_train,
            SPLATFILL_OT_remove_selected, SPLATFILL_OT_hole_masks, SPLATFILL_OT_inpaint, SPLATFILL_OT_complete,
-           SPLATFILL_OT_evaluate, SPLATFILL_OT_turntable)
+           SPLATFILL_OT_evaluate, SPLATFILL_OT_turntable, SPLATFILL_OT_export)
 
 
 register, unregister = bpy.utils.register_classes_factory(CLASSES)

@@ -18,7 +18,8 @@ from engine.formats.splat_files import FORMATS, SUFFIX, read_splat_file, write_s
 @dataclass
 class ExportConfig:
     run: str = ""  # the training run
-    stage: str = ""  # "" (as trained) | removed | complete/<Method> (complete alone: the run's only completion)
+    stage: str = ""  # "" (as trained) | removed | complete/<Method> (complete alone: the only one) | a folder of
+    # the run holding a point_cloud.ply (Blender's stamped removed-<object>-<time>/)
     format: str = "ply"  # ply | compressed-ply | splat | spz
     out: str = ""  # the file to write (default RUN/exports/<stage>.<format's suffix>)
     with_identities: bool = False  # .ply: keep the obj_dc_* identity fields (only our tools read them)
@@ -38,8 +39,11 @@ def stage_ply(run: RunLayout, stage: str) -> Path:
             raise InputError(f"{run.root} has no finished completion {name or '(several or none)'}; give "
                              f"--stage complete/<Method>, one of: {', '.join(done) or 'none yet (run complete)'}")
         path = run.complete(name).run.point_cloud
+    elif (run.root / stage / "point_cloud.ply").is_file():
+        path = run.root / stage / "point_cloud.ply"
     else:
-        raise InputError(f"--stage {stage}: give removed, complete/<Method>, or nothing for the trained scene")
+        raise InputError(f"--stage {stage}: give removed, complete/<Method>, a folder of {run.root} holding a "
+                         "point_cloud.ply, or nothing for the trained scene")
     if not path.is_file():
         raise InputError(f"{path} does not exist: run that stage first")
     return path
@@ -51,7 +55,8 @@ def export(config: ExportConfig) -> Path:
         raise InputError(f"--format {config.format}: give one of {', '.join(FORMATS)}")
     run = RunLayout(config.run)
     source = stage_ply(run, config.stage)
-    stem = (config.stage or "trained").replace("/", "-")
+    stem = Path(config.stage or "trained").name if Path(config.stage).is_absolute() else \
+        (config.stage or "trained").replace("/", "-")
     out = Path(config.out) if config.out else run.exports / f"{stem}{SUFFIX[config.format]}"
     if out.resolve() == source.resolve():
         raise InputError(f"--out {out} is the scene being exported: write it elsewhere")

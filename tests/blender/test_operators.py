@@ -75,6 +75,10 @@ def test_remove_selected_runs_the_engine_and_imports_the_scene_without_the_objec
     assert (run / "point_cloud.ply").stat().st_mtime_ns == before_ply
     bpy.context.view_layer.objects.active = result.objects[0]
     assert bpy.ops.splatfill.evaluate() == {"FINISHED"}  # the removal's renders scored by the engine
+    # Export Splats: the removed scene (its own stamped folder) as .spz, read back by the import
+    assert bpy.ops.splatfill.export(filepath=str(run / "exports" / "without.ply"), format="spz") == {"FINISHED"}
+    assert bpy.ops.splatfill.import_splats(filepath=str(run / "exports" / "without.spz")) == {"FINISHED"}
+    assert _vertices(bpy.data.collections["exports"]) == report["gaussians_after"]
 
 
 def test_remove_selected_without_a_proxy_says_what_to_select(registered):
