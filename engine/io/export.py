@@ -39,8 +39,8 @@ def stage_ply(run: RunLayout, stage: str) -> Path:
             raise InputError(f"{run.root} has no finished completion {name or '(several or none)'}; give "
                              f"--stage complete/<Method>, one of: {', '.join(done) or 'none yet (run complete)'}")
         path = run.complete(name).run.point_cloud
-    elif (run.root / stage / "point_cloud.ply").is_file():
-        path = run.root / stage / "point_cloud.ply"
+    elif RunLayout(run.root / stage).point_cloud.is_file():
+        path = RunLayout(run.root / stage).point_cloud
     else:
         raise InputError(f"--stage {stage}: give removed, complete/<Method>, a folder of {run.root} holding a "
                          "point_cloud.ply, or nothing for the trained scene")
