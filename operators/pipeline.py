@@ -63,14 +63,18 @@ def _new_collection(name: str, **props: str) -> bpy.types.Collection:
     return collection
 
 
+def _active_collection(context: bpy.types.Context, needs: str) -> bpy.types.Collection | None:
+    """The active proxy's collection (or the active collection) carrying `needs`, or None."""
+    obj = context.active_object
+    candidates = [*(obj.users_collection if obj is not None else []), context.collection]
+    return next((c for c in candidates if c is not None and needs in c), None)
+
+
 def run_collection(context: bpy.types.Context, needs: str = "splatfill_run") -> bpy.types.Collection:
     """The collection of the active proxy (or the active collection), which must carry `needs`."""
-    obj = context.active_object
-    candidates = list(obj.users_collection) if obj is not None else []
-    candidates.append(context.collection)
-    for collection in candidates:
-        if collection is not None and needs in collection:
-            return collection
+    collection = _active_collection(context, needs)
+    if collection is not None:
+        return collection
     step = {"splatfill_run": "import or train a run", "splatfill_removed": "run Remove Selected",
             "splatfill_holes": "run Hole Masks", "splatfill_inpainted": "run Inpaint"}[needs]
     raise UserError(f"select a splatfill proxy whose collection has {needs}: {step} first")
@@ -236,8 +240,10 @@ class SPLATFILL_OT_complete(EngineOperator, bpy.types.Operator):
     def finish(self, context, records):
         done = done_record(records, "complete")
         out = layout.CompleteLayout(self._out)
+        c = self._collection  # the turntable shows this scene against the one the removal started from
         import_run_ply(out.run.point_cloud, done["method"], splatfill_run=str(out.run.root),
-                       splatfill_scores=str(out.scores_json))
+                       splatfill_scores=str(out.scores_json), splatfill_original=c["splatfill_run"],
+                       splatfill_completed_from=c["splatfill_removed"])
         return f"{done['method']}: m-PSNR {done.get('m_psnr')} dB, {self._out}"
 
 
@@ -262,17 +268,23 @@ class SPLATFILL_OT_evaluate(EngineOperator, bpy.types.Operator):
 class SPLATFILL_OT_turntable(EngineOperator, bpy.types.Operator):
     bl_idname = "splatfill.turntable"
     bl_label = "Turntable"
-    bl_description = ("Before | after around the removed object as an H.264 MP4, rendered by the engine: an orbit, "
-                      "or the scene camera's path over the frame range")
+    bl_description = ("Before | after around the removed object as an H.264 MP4, rendered by the engine (after: the "
+                      "removed scene, or the completed one when a completion is active): an orbit, or the scene "
+                      "camera's path over the frame range")
     frames: bpy.props.IntProperty(name="Frames", default=48, min=1, description="frames of the orbit")
     follow_camera: bpy.props.BoolProperty(name="Follow the scene camera", default=False,
                                           description="the scene camera's path over the frame range, not an orbit")
 
     def engine_args(self, context, device):
-        c = run_collection(context, "splatfill_removed")
-        removed = Path(c["splatfill_removed"])
+        completed = _active_collection(context, "splatfill_completed_from")
+        if completed is not None:  # a completed scene: before the removal | after the completion
+            run, removed = completed["splatfill_original"], Path(completed["splatfill_completed_from"])
+            after = ["--after", str(layout.RunLayout(completed["splatfill_run"]).point_cloud)]
+        else:  # a removed scene: before | the removal's, unfilled
+            c = run_collection(context, "splatfill_removed")
+            run, removed, after = c["splatfill_run"], Path(c["splatfill_removed"]), []
         self._out = removed.parent / f"turntable-{removed.name}-{stamp()}"
-        args = ["turntable", "--run", c["splatfill_run"], "--removed", str(removed), "--out", str(self._out),
+        args = ["turntable", "--run", run, "--removed", str(removed), *after, "--out", str(self._out),
                 "--frames", str(self.frames), "--device", device]
         self._cameras = None
         if self.follow_camera:

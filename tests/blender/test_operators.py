@@ -167,6 +167,22 @@ def test_the_turntable_operator_writes_an_mp4_of_an_orbit_or_of_the_scene_camera
     assert bpy.ops.splatfill.turntable(follow_camera=True) == {"FINISHED"}
     (path,) = set(run.glob("turntable-*")) - before - {orbit}
     assert _decoded(path / "turntable.mp4")[0] == "2" and len(json.loads((path / "cameras.json").read_text())) == 2
+    # a completed scene's collection (as Complete leaves it): after is that scene, not the unfilled removal. Here the
+    # "completion" is the original run itself, so the two halves of each frame agree
+    done = bpy.data.collections.new("completed for the turntable")
+    bpy.context.scene.collection.children.link(done)
+    done["splatfill_run"], done["splatfill_scores"] = str(run), str(run / "scores.json")
+    done["splatfill_original"], done["splatfill_completed_from"] = str(run), str(removed)
+    bpy.context.view_layer.active_layer_collection = bpy.context.view_layer.layer_collection.children[done.name]
+    assert bpy.ops.splatfill.turntable(frames=2) == {"FINISHED"}
+    (completed,) = set(run.glob("turntable-*")) - before - {orbit, path}
+    halves = ("import cv2, sys; ok, f = cv2.VideoCapture(sys.argv[1]).read(); w = f.shape[1] // 2\n"
+              "print(abs(f[:, :w].astype(int) - f[:, w:2 * w]).mean())")
+    same = subprocess.run([str(ENGINE_PYTHON), "-c", halves, str(completed / "turntable.mp4")], capture_output=True,
+                          text=True, check=True).stdout
+    unfilled = subprocess.run([str(ENGINE_PYTHON), "-c", halves, str(orbit / "turntable.mp4")], capture_output=True,
+                              text=True, check=True).stdout
+    assert float(same) < 0.5 * float(unfilled), (same, unfilled)
 
 
 def test_the_inpaint_and_complete_menus_list_the_engines_plugins(package, monkeypatch):
