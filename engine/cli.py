@@ -84,7 +84,6 @@ def _export(args: argparse.Namespace) -> None:
 
 
 def _segment(args: argparse.Namespace) -> None:
-    from engine.base.output_dir import check_new_output
     from engine.formats.layout import RunLayout
     from engine.train.config import config_from_args
     from engine.train.segments import SegmentConfig, run_segment
@@ -92,9 +91,7 @@ def _segment(args: argparse.Namespace) -> None:
 
     config = config_from_args(args, SegmentConfig)
     out = Path(config.out) if config.out else RunLayout(config.run).segments.root
-    if not config.adds:  # --box and --indices extend the segments found so far
-        check_new_output(out)
-    report = run_segment(load_run(config.run), config)
+    report = run_segment(load_run(config.run), config)  # refuses to replace objects found before unless --replace
     print(f"{report['objects']} objects in {out}: see {out / 'sheet.png'}, then `remove --run {config.run} "
           "--object NAME`", file=sys.stderr)
 

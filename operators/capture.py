@@ -73,12 +73,15 @@ class SPLATFILL_OT_find_objects(_SegmentOperator, bpy.types.Operator):
     bl_description = ("Group the active run's Gaussians into objects without ground-truth masks: from the "
                       "geometry, or from a folder of 2D masks whose ids need not agree across views")
     masks: bpy.props.StringProperty(name="Mask folder", subtype="DIR_PATH", description="empty: automatic")
+    replace: bpy.props.BoolProperty(name="Replace the objects found before", default=True,
+                                    description="they are kept: Restore Objects brings them back")
 
     def invoke(self, context, event):
         return context.window_manager.invoke_props_dialog(self)
 
     def segment_args(self, context):
-        return ["--from-masks", bpy.path.abspath(self.masks)] if self.masks else ["--auto"]
+        replace = ["--replace"] if self.replace else []
+        return [*(["--from-masks", bpy.path.abspath(self.masks)] if self.masks else ["--auto"]), *replace]
 
 
 class SPLATFILL_OT_object_from_selection(_SegmentOperator, bpy.types.Operator):
@@ -102,6 +105,16 @@ class SPLATFILL_OT_object_from_selection(_SegmentOperator, bpy.types.Operator):
         if box is None:
             raise UserError("select proxy points in Edit Mode, or a mesh (a cube) around the object")
         return ["--box", *map(str, box), *name]
+
+
+class SPLATFILL_OT_restore_objects(_SegmentOperator, bpy.types.Operator):
+    bl_idname = "splatfill.restore_objects"
+    bl_label = "Restore Objects"
+    bl_description = ("Bring back the objects the last Find Objects or Object from Selection replaced or extended "
+                      "(Blender's Undo does not reach the engine's files); again swaps forward")
+
+    def segment_args(self, context):
+        return ["--restore"]
 
 
 def selected_gaussians(objects: list[bpy.types.Object]) -> np.ndarray:
@@ -134,7 +147,8 @@ def selection_box(objects: list[bpy.types.Object], frame: bpy.types.Object | Non
     return [*points.min(0).tolist(), *points.max(0).tolist()]
 
 
-CLASSES = (SPLATFILL_OT_import_capture, SPLATFILL_OT_find_objects, SPLATFILL_OT_object_from_selection)
+CLASSES = (SPLATFILL_OT_import_capture, SPLATFILL_OT_find_objects, SPLATFILL_OT_object_from_selection,
+           SPLATFILL_OT_restore_objects)
 
 
 register, unregister = bpy.utils.register_classes_factory(CLASSES)

@@ -52,7 +52,9 @@ def _method_items(self, context):
 
 
 def stamp() -> str:
-    return time.strftime("%Y%m%d-%H%M%S")
+    """A time to the millisecond for output folder names: an operator run twice on one run writes two folders."""
+    now = time.time()
+    return time.strftime("%Y%m%d-%H%M%S", time.localtime(now)) + f"-{int(now * 1000) % 1000:03d}"
 
 
 def _new_collection(name: str, **props: str) -> bpy.types.Collection:
@@ -187,13 +189,13 @@ class SPLATFILL_OT_hole_masks(EngineOperator, bpy.types.Operator):
     def engine_args(self, context, device):
         self._collection = run_collection(context, "splatfill_removed")
         removed = Path(self._collection["splatfill_removed"])
-        self._out = removed.parent / f"holes-{removed.name}"
+        self._out = removed.parent / f"holes-{removed.name}-{stamp()}"
         return ["holes", "--run", self._collection["splatfill_run"], "--removed", str(removed), "--out",
                 str(self._out)]
 
     def finish(self, context, records):
         self._collection["splatfill_holes"] = str(self._out)
-        iou = done_record(records, "holes").get("mean_unseen_iou_vs_truth")
+        iou = done_record(records, "holes").get("mean_iou_vs_truth")  # the masks that will be inpainted
         return f"hole masks in {self._out}" + (f" (IoU against the scene's holes {iou:.2f})" if iou else "")
 
 
@@ -206,7 +208,7 @@ class SPLATFILL_OT_inpaint(EngineOperator, bpy.types.Operator):
     def engine_args(self, context, device):
         self._collection = run_collection(context, "splatfill_holes")
         removed = Path(self._collection["splatfill_removed"])
-        self._out = removed.parent / f"inpainted-{self.inpainter}-{removed.name}"
+        self._out = removed.parent / f"inpainted-{self.inpainter}-{removed.name}-{stamp()}"
         return ["inpaint", "--run", self._collection["splatfill_run"], "--removed", str(removed), "--holes",
                 self._collection["splatfill_holes"], "--inpainter", self.inpainter, "--out", str(self._out)]
 

@@ -81,6 +81,14 @@ def test_a_box_and_selected_indices_add_named_objects(run_copy: Path, tmp_path: 
     np.savetxt(tmp_path / "bad.txt", [len(means)], fmt="%d")
     with pytest.raises(InputError, match="indices between 0 and"):
         run_segment(run, SegmentConfig(run=str(run_copy), indices=str(tmp_path / "bad.txt"), device="cpu"))
+    # the objects before the last selection were kept: --restore brings them back, and again swaps forward
+    run_segment(run, SegmentConfig(run=str(run_copy), restore=True))
+    assert [o.name for o in load_run(run_copy).scene.objects] == ["thing"]
+    run_segment(run, SegmentConfig(run=str(run_copy), restore=True))
+    assert [o.name for o in load_run(run_copy).scene.objects] == ["thing", "object_2"]
+    # a new grouping replaces them only when asked (Blender's Find Objects run twice)
+    with pytest.raises(InputError, match="pass --replace"):
+        run_segment(run, SegmentConfig(run=str(run_copy), from_masks=str(tmp_path), device="cpu"))
 
 
 def test_auto_finds_the_target_without_masks(run_copy: Path, tmp_path: Path):

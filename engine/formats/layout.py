@@ -271,6 +271,11 @@ class RunLayout(_Folder):
         return SegmentsLayout(self.root / "segments")
 
     @property
+    def previous_segments(self) -> SegmentsLayout:
+        """The objects a later `segment` replaced or extended, kept for `segment --restore`."""
+        return SegmentsLayout(self.root / "segments.previous")
+
+    @property
     def removed(self) -> RemovedLayout:
         return RemovedLayout(self.root / "removed")
 

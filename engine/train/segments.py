@@ -26,6 +26,7 @@ identity has 16 dimensions, so a run holds at most 15 objects besides the backgr
 from __future__ import annotations
 
 import json
+import shutil
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -39,7 +40,7 @@ from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import emit
 from engine.formats.cameras import Camera, backproject, project, sample_nearest
 from engine.formats.checks import read_json
-from engine.formats.layout import SegmentsLayout
+from engine.formats.layout import RunLayout, SegmentsLayout
 from engine.formats.splat_ply import IDENTITY_DIM, SH_C0
 from engine.io.extent import bounding_box, inside_box
 from engine.io.gaussians import Gaussians
@@ -66,6 +67,8 @@ class SegmentConfig(VoteConfig, ProposalConfig):
     point: list[float] = field(default_factory=list)  # U V: a click (pixels of the run's --view image): its object
     view: str = ""  # --point: the image name the click is in
     name: str = ""  # --box/--indices/--point: the object's name (default object_<id>)
+    replace: bool = False  # --auto/--from-masks: replace the objects found before (kept for --restore)
+    restore: bool = False  # bring back the objects the last segment replaced or extended (again: redo)
     rel_tol: float = 0.03  # a Gaussian is seen when its depth is within this fraction of the rendered depth
     join: float = 0.5  # a segment joins the object that holds at least this fraction of its Gaussians
     min_gaussians: int = 20  # smaller objects go to the background
@@ -173,11 +176,16 @@ def instance_masks(gaussians: Gaussians, ids: np.ndarray, cameras: list[Camera],
 def run_segment(run, config: SegmentConfig) -> dict:
     """Write RUN/segments/ for a loaded run (engine.train.trained_run.TrainedRun). --auto and --from-masks
     ignore the run's objects; --box and --indices add one to the segments found so far."""
+    if config.restore:
+        return restore_segments(run.layout)
     if sum(map(bool, (config.auto, config.from_masks, config.box, config.indices, config.point))) != 1:
-        raise InputError("give one of --auto, --from-masks DIR, --box x0 y0 z0 x1 y1 z1, --indices FILE or "
-                         "--point U V --view IMAGE")
+        raise InputError("give one of --auto, --from-masks DIR, --box x0 y0 z0 x1 y1 z1, --indices FILE, "
+                         "--point U V --view IMAGE or --restore")
     means = run.gaussians["means"].numpy()
     out = SegmentsLayout(config.out) if config.out else run.layout.segments
+    if not (config.adds or config.replace) and out.root.exists() and any(out.root.iterdir()):
+        raise InputError(f"{out.root} holds the objects found before: pass --replace (they are kept for "
+                         "--restore) or another --out")
     device = pick_device(config.device)
     if config.adds:
         ids, objects, stats = _add_selection(run, means, config, device)
@@ -199,7 +207,9 @@ def run_segment(run, config: SegmentConfig) -> dict:
         raise InputError(f"no object found in {run.root} ({stats}): check the masks (0 = unlabelled), or "
                          "select one with --box or --indices")
     masks = instance_masks(run.gaussians, ids, run.scene.cameras, run.sh_degree, device)
-    with atomic_output_dir(out.root, replace=config.adds) as tmp:
+    if out.root == run.layout.segments.root and out.objects_json.is_file():  # kept for --restore
+        _keep_previous(out.root, run.layout.previous_segments.root)
+    with atomic_output_dir(out.root, replace=config.adds or config.replace) as tmp:
         target = SegmentsLayout(tmp)
         np.save(target.ids, ids.astype(np.uint8))
         for camera, mask in zip(run.scene.cameras, masks, strict=True):
@@ -212,6 +222,27 @@ def run_segment(run, config: SegmentConfig) -> dict:
         write_png(target.sheet, segments_sheet(run.scene, masks, objects))
     emit("done", stage="segment", out=str(out.root), objects=len(objects))
     return report
+
+
+def _keep_previous(current: Path, previous: Path) -> None:
+    """Copy the objects about to be replaced or extended to `previous`, atomically."""
+    with atomic_output_dir(previous, replace=True) as tmp:
+        shutil.copytree(current, tmp, dirs_exist_ok=True)
+
+
+def restore_segments(layout: RunLayout) -> dict:
+    """Swap RUN/segments with the objects the last `segment` replaced or extended (a second call swaps back)."""
+    current, previous = layout.segments.root, layout.previous_segments.root
+    if not SegmentsLayout(previous).objects_json.is_file():
+        raise InputError(f"{layout.root} has no earlier objects to restore: no segment replaced or extended them")
+    swap = current.parent / f".{current.name}.swap"
+    shutil.rmtree(swap, ignore_errors=True)
+    current.rename(swap)
+    previous.rename(current)
+    swap.rename(previous)
+    objects = read_segment_objects(layout)
+    emit("done", stage="segment", out=str(current), objects=len(objects), restored=True)
+    return {"restored": True, "objects": len(objects)}
 
 
 def _from_masks(run, means: np.ndarray, config: SegmentConfig, device: torch.device) -> tuple[np.ndarray, dict]:

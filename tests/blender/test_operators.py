@@ -248,3 +248,9 @@ def test_find_objects_and_object_from_selection_group_a_run_without_objects(run:
     ids = np.load(copy / "segments" / "ids.npy")
     picked = next(e for e in json.loads((copy / "segments" / "objects.json").read_text()) if e["name"] == "picked")
     assert picked["gaussians"] == 5 and set(ids[index[:5]]) == {picked["id"]}
+    # Restore Objects undoes the last selection (Blender's Undo does not reach the engine's files); Find Objects
+    # runs again, replacing what was found (kept for Restore)
+    assert bpy.ops.splatfill.restore_objects() == {"FINISHED"}
+    assert "picked" not in {e["name"] for e in json.loads((copy / "segments" / "objects.json").read_text())}
+    assert bpy.ops.splatfill.find_objects(masks=str(scene / "masks")) == {"FINISHED"}
+    assert "boxed" not in {e["name"] for e in json.loads((copy / "segments" / "objects.json").read_text())}
