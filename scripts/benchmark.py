@@ -176,13 +176,16 @@ def _hole_line(cells: list[dict], scene: str) -> list[str]:
 
 
 def write_results(cells: list[dict], out: Path, mixed: bool = False) -> None:
-    cells = add_shares(mark_commits(cells, mixed))
+    """results.json and results.csv (every cell as recorded), then the tables, chart and failure report, which
+    take the cells of one commit only unless `mixed` (`MixedCommits` otherwise, after the records are written)."""
+    cells = add_shares(cells)
     (out / "results.json").write_text(json.dumps(cells, indent=1))
-    keys = ["scene", "seed", "inpainter", "method", "status", "reason"] + [k for k, _, _ in COLUMNS]
+    keys = ["scene", "seed", "inpainter", "method", "status", "reason", "commit"] + [k for k, _, _ in COLUMNS]
     with open(out / "results.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
         writer.writeheader()
         writer.writerows(cells)
+    cells = mark_commits(cells, mixed)
     lines = ["# Benchmark results", ""]
     roles = {c["scene"]: c.get("role") for c in cells}
     for scene, rows in summarise(cells).items():

@@ -68,6 +68,8 @@ def test_set_metrics_are_not_averaged_across_scenes_and_a_negative_kid_ties_with
 
 
 def test_cells_of_two_commits_are_refused_in_one_table_unless_asked_and_then_named_by_commit(tmp_path: Path):
+    import json
+
     import pytest
     from benchmark import MixedCommits, write_results
 
@@ -75,6 +77,7 @@ def test_cells_of_two_commits_are_refused_in_one_table_unless_asked_and_then_nam
              cell("a", "Ref-telea", 20.0) | {"commit": "def5678"}]
     with pytest.raises(MixedCommits, match="2 commits"):
         write_results(cells, tmp_path)
+    assert len(json.loads((tmp_path / "results.json").read_text())) == 2  # the records are kept all the same
     write_results(cells, tmp_path, mixed=True)
     text = (tmp_path / "tables.md").read_text()
     assert "| Init-telea @abc1234 |" in text and "| Ref-telea @def5678 |" in text
