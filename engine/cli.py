@@ -75,6 +75,14 @@ def _import_splat(args: argparse.Namespace) -> None:
           f"the scene's images", file=sys.stderr)
 
 
+def _clean(args: argparse.Namespace) -> None:
+    from engine.edit.clean import CleanConfig, run_clean
+    from engine.train.config import config_from_args
+
+    report = run_clean(config_from_args(args, CleanConfig))
+    print(f"deleted {report['deleted']} of {report['before']} Gaussians ({report['by_rule']})", file=sys.stderr)
+
+
 def _export(args: argparse.Namespace) -> None:
     from engine.io.export import ExportConfig, export
     from engine.train.config import config_from_args
@@ -303,6 +311,12 @@ def build_parser() -> argparse.ArgumentParser:
     add_config_arguments(p, SegmentConfig, required=("run",))
     p.set_defaults(handler=_segment)
 
+    from engine.edit.clean import CleanConfig
+
+    p = sub.add_parser("clean", help="delete stray Gaussians at once (faint, huge, far, outside a box) into a new "
+                                     "run, without a removal's relighting and renders")
+    add_config_arguments(p, CleanConfig, required=("run",))
+    p.set_defaults(handler=_clean)
     from engine.io.export import ExportConfig
 
     p = sub.add_parser("export", help="a run's scene (trained, removed or completed) as .ply, compressed .ply, "

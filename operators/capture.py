@@ -147,8 +147,44 @@ def selection_box(objects: list[bpy.types.Object], frame: bpy.types.Object | Non
     return [*points.min(0).tolist(), *points.max(0).tolist()]
 
 
+class SPLATFILL_OT_clean_up(EngineOperator, bpy.types.Operator):
+    bl_idname = "splatfill.clean_up"
+    bl_label = "Clean Up"
+    bl_description = ("Delete stray Gaussians at once (faint, huge, far from the subject, or outside a selected "
+                      "mesh's bounds) into a new run that replaces the active one in the view; no relighting")
+    min_opacity: bpy.props.FloatProperty(name="Min opacity", default=0.05, min=0.0, max=1.0)
+    max_size: bpy.props.FloatProperty(name="Max size", default=0.0, min=0.0, description="largest standard "
+                                      "deviation kept, scene units (0: any)")
+    max_distance: bpy.props.FloatProperty(name="Max distance", default=0.0, min=0.0, description="from the "
+                                          "subject (object_1, else where the cameras look), scene units (0: any)")
+    crop: bpy.props.BoolProperty(name="Crop to the selected mesh", default=False)
+
+    def invoke(self, context, event):
+        return context.window_manager.invoke_props_dialog(self)
+
+    def engine_args(self, context, device):
+        self._collection = c = run_collection(context)
+        run = Path(c["splatfill_run"])
+        self._out = run.parent / f"{run.name}-clean-{stamp()}"
+        args = ["clean", "--run", str(run), "--out", str(self._out), "--min-opacity", str(self.min_opacity),
+                "--max-size", str(self.max_size), "--max-distance", str(self.max_distance)]
+        if self.crop:
+            frame = next((o for o in c.objects if "splatfill_frame" in o), None)
+            box = selection_box([o for o in context.selected_objects if "splatfill_group" not in o], frame)
+            if box is None:
+                raise UserError("Crop needs a selected mesh (a cube) around what to keep")
+            args += ["--crop", *map(str, box)]
+        return args
+
+    def finish(self, context, records):
+        done = done_record(records, "clean")
+        import_run_ply(layout.RunLayout(self._out).point_cloud, self._out.name, splatfill_run=str(self._out))
+        self._collection.hide_viewport = True  # the cleaned run takes its place; the original stays on disk
+        return f"deleted {done['deleted']} Gaussians, kept {done['kept']}: {self._out}"
+
+
 CLASSES = (SPLATFILL_OT_import_capture, SPLATFILL_OT_find_objects, SPLATFILL_OT_object_from_selection,
-           SPLATFILL_OT_restore_objects)
+           SPLATFILL_OT_restore_objects, SPLATFILL_OT_clean_up)
 
 
 register, unregister = bpy.utils.register_classes_factory(CLASSES)

@@ -22,6 +22,7 @@ class SPLATFILL_PT_pipeline(bpy.types.Panel):
         col.operator("splatfill.find_objects", icon="OUTLINER_OB_GROUP_INSTANCE")
         col.operator("splatfill.object_from_selection", icon="RESTRICT_SELECT_OFF")
         col.operator("splatfill.restore_objects", icon="LOOP_BACK")
+        col.operator("splatfill.clean_up", icon="BRUSH_DATA")
         col = layout.column(align=True)
         col.operator("splatfill.remove_selected", icon="TRASH")
         col.operator("splatfill.hole_masks", icon="MOD_MASK")

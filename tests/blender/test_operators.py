@@ -81,6 +81,23 @@ def test_remove_selected_runs_the_engine_and_imports_the_scene_without_the_objec
     assert _vertices(bpy.data.collections["exports"]) == report["gaussians_after"]
 
 
+def test_clean_up_deletes_faint_gaussians_into_a_new_run_and_runs_again(run: Path, registered):
+    """Clean Up twice in a row on the same run: two new runs (nothing written over), each without the faint
+    Gaussians, shown in place of the original collection."""
+    assert bpy.ops.splatfill.import_splats(filepath=str(run / "point_cloud.ply")) == {"FINISHED"}
+    original = bpy.data.collections[run.name]
+    bpy.context.view_layer.objects.active = original.objects[0]
+    before = set(run.parent.glob(f"{run.name}-clean-*"))
+    for _ in range(2):
+        bpy.context.view_layer.objects.active = original.objects[0]
+        assert bpy.ops.splatfill.clean_up(min_opacity=0.5) == {"FINISHED"}
+    made = sorted(set(run.parent.glob(f"{run.name}-clean-*")) - before)
+    assert len(made) == 2 and original.hide_viewport
+    report = json.loads((made[0] / "clean.json").read_text())
+    assert 0 < report["deleted"] < report["before"] and report["by_rule"]["opacity"] == report["deleted"]
+    assert _vertices(bpy.data.collections[made[0].name]) == report["before"] - report["deleted"]
+
+
 def test_remove_selected_without_a_proxy_says_what_to_select(registered):
     with pytest.raises(RuntimeError, match="select one of a splatfill scene's objects"):
         bpy.ops.splatfill.remove_selected()
