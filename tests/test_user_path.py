@@ -40,7 +40,7 @@ def exif_jpeg(bgr: np.ndarray, orientation: int) -> bytes:
 @pytest.fixture(scope="module")
 def photos(tmp_path_factory) -> Path:
     """40 views of a livingroom at 256 px as JPEG photos, every other one stored sideways with its EXIF tag
-    (36 of 40 register in SfM; 20 views at 160 px registered none)."""
+    (31-36 of 40 register in SfM; 20 views at 160 px registered none)."""
     root = tmp_path_factory.mktemp("photos")
     make_scene(root / "scene", "livingroom", ["--views", "40", "--res", "256", "--samples", "8", "--seed", "3",
                                               "--points", "3000"])
@@ -71,7 +71,9 @@ def test_the_readme_user_path_runs_as_written_from_photos(photos: Path, tmp_path
         proc = subprocess.run(command, shell=True, env=env, cwd=REPO, capture_output=True, text=True)
         assert proc.returncode == 0, f"{command}\n{proc.stderr[-1500:]}"
     report = json.loads((capture / "capture.json").read_text())
-    assert report["registered"] >= 32 and report["images"] == 40, report
+    # 31 to 36 of 40 registered in runs on 2 cores (pycolmap's mapping varies); the sideways half alone is 20,
+    # so a capture that ignored EXIF orientation stays near 20
+    assert report["registered"] >= 26 and report["images"] == 40, report
     sizes = {cv2.imread(str(p)).shape[:2] for p in (capture / "images").iterdir()}
     assert all(h < w for h, w in sizes), sizes  # every photo upright (landscape), the sideways ones turned back
     objects = json.loads((run / "segments" / "objects.json").read_text())
