@@ -218,7 +218,7 @@ def test_the_complete_operators_defaults_are_the_engines(package, registered, mo
     CLI and the benchmark use: FT's perceptual term was ST-LPIPS here and LPIPS in the CLI."""
     monkeypatch.setenv("SPLATFILL_ENGINE_PYTHON", str(ENGINE_PYTHON))
     engine_call = importlib.import_module(f"{package.__name__}.addon.engine_call")
-    offered = bpy.types.SPLATFILL_OT_complete.bl_rna.properties
+    offered = bpy.ops.splatfill.complete.get_rna_type().properties  # what the panel's dialog starts from
     checked = 0
     for method in engine_call.engine_plugins(str(ENGINE_PYTHON))["methods"]:
         for option in method["options"]:
