@@ -43,10 +43,10 @@ def shuffled_masks(run: Path, out: Path, seed: int = 0) -> dict[int, int]:
 def test_masks_with_ids_shuffled_per_view_give_objects_that_remove_works_on(run_copy: Path, tmp_path: Path):
     scene = load_run_scene(run_copy)
     target = shuffled_masks(run_copy, tmp_path / "masks")
-    # the tiny run's four small objects hold 9-25 Gaussians each (five training seeds), around the default
-    # floor of 20 that keeps a full-size run's stray segments out: here a floor of 8 keeps them
+    # at the default floor of 20 Gaussians (the tiny run's small objects hold 9-25 each, so some fall below it):
+    # the target must still be found, as a user's run would have it
     report = run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), from_masks=str(tmp_path / "masks"),
-                                                           min_gaussians=8, device="cpu"))
+                                                           device="cpu"))
     assert report["objects"] >= 2 and report["joined"] >= 0.7 * report["segments"]
     segmented = load_run_scene(run_copy)  # the run now loads with the segments' objects and masks
     objects = {o.name: o.id for o in segmented.objects}
