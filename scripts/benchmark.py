@@ -78,14 +78,11 @@ def _table(rows: dict[str, dict[str, float | None]]) -> list[str]:
     best = {}
     for key, _, pick in COLUMNS:
         values = [r[key] for name, r in rows.items() if r.get(key) is not None and _ranked(name)]
-        best[key] = _best(values, key, pick) if pick and values else None
-
-    def shown(value, key: str) -> float | None:
-        return max(value, 0.0) if value is not None and key in ("kid", "m_kid") else value
-
+        best[key] = pick(_rank_value(v, key) for v in values) if pick and values else None
     for name, r in rows.items():
-        cells = [(f"**{_fmt(r.get(key), key)}**" if best[key] is not None and shown(r.get(key), key) == best[key]
-                  and _ranked(name) else _fmt(r.get(key), key)) for key, _, _ in COLUMNS]
+        cells = [(f"**{_fmt(r.get(key), key)}**" if best[key] is not None and r.get(key) is not None
+                  and _rank_value(r[key], key) == best[key] and _ranked(name) else _fmt(r.get(key), key))
+                 for key, _, _ in COLUMNS]
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
     return lines
 
@@ -94,11 +91,10 @@ ORACLES = (("flat", "Oracle: truth's mean colour"), ("blur", "Oracle: truth blur
 DISTRIBUTION = ("fid", "m_fid", "kid", "m_kid")  # set metrics: never averaged across scenes (METRICS.md)
 
 
-def _best(values: list[float], key: str, pick):
-    """The value to bold: KID estimates a squared distance, so a negative one is zero (noise), never better."""
-    if key in ("kid", "m_kid"):
-        return pick(max(v, 0.0) for v in values)
-    return pick(values)
+def _rank_value(value: float, key: str) -> float:
+    """What a column is ranked by: KID estimates a squared distance, so a negative one is zero (noise), never
+    better than zero."""
+    return max(value, 0.0) if key in ("kid", "m_kid") else value
 
 
 def _mean(values: list) -> float | None:
@@ -122,7 +118,7 @@ def add_shares(cells: list[dict]) -> list[dict]:
 def summarise(cells: list[dict]) -> dict[str, dict[str, dict]]:
     """Per scene, and averaged over scenes ('all'; 'all held-out', 'all tuning' and 'all other' when the scenes'
     roles differ, engine.formats.protocol), per method: each column's mean over seeds (and scenes)."""
-    done = add_shares([c for c in cells if c["status"] == "done"])
+    done = [c for c in cells if c["status"] == "done"]  # with their shares (add_shares) when write_results calls
     scenes = sorted({c["scene"] for c in done})
     roles = [r for r in ("held-out", "tuning", None) if any(c.get("role") == r for c in done)]
     groups = {scene: [c for c in done if c["scene"] == scene] for scene in scenes}
