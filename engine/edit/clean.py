@@ -41,9 +41,9 @@ class CleanConfig:
         self.crop = [float(v) for v in self.crop]  # saved in clean.json
 
 
-def deletions(vertices: np.ndarray, config: CleanConfig, subject: np.ndarray | None) -> dict[str, np.ndarray]:
-    """Per rule, the (N,) bool of the Gaussians it deletes."""
-    means = np.stack([vertices[c] for c in ("x", "y", "z")], 1).astype(np.float64)
+def deletions(vertices: np.ndarray, means: np.ndarray, config: CleanConfig, subject: np.ndarray | None
+              ) -> dict[str, np.ndarray]:
+    """Per rule, the (N,) bool of the Gaussians (`vertices`, their centres `means`) it deletes."""
     rules = {}
     if config.min_opacity > 0:
         rules["opacity"] = 1 / (1 + np.exp(-vertices["opacity"].astype(np.float64))) < config.min_opacity
@@ -69,7 +69,8 @@ def run_clean(config: CleanConfig) -> dict:
         raise InputError(f"{run.root} is not a run folder (no {run.config_json.name}): give a trained run")
     out = RunLayout(config.out or str(run.root) + "-clean")
     vertices = read_splat_file(run.point_cloud)
-    rules = deletions(vertices, config, _subject(run, vertices) if config.max_distance > 0 else None)
+    means = np.stack([vertices[c] for c in ("x", "y", "z")], 1).astype(np.float64)
+    rules = deletions(vertices, means, config, _subject(run, means) if config.max_distance > 0 else None)
     gone = np.logical_or.reduce(list(rules.values()))
     if gone.all():
         raise InputError(f"these limits delete all {len(gone)} Gaussians of {run.point_cloud}: loosen them")
@@ -90,9 +91,8 @@ def run_clean(config: CleanConfig) -> dict:
     return report
 
 
-def _subject(run: RunLayout, vertices: np.ndarray) -> np.ndarray:
+def _subject(run: RunLayout, means: np.ndarray) -> np.ndarray:
     """object_1's median position where `segment` found objects, else the point the cameras look at."""
-    means = np.stack([vertices[c] for c in ("x", "y", "z")], 1).astype(np.float64)
     if run.segments.ids.is_file():
         ids = np.load(run.segments.ids)
         if len(ids) == len(means) and (ids == 1).any():

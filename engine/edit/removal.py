@@ -146,7 +146,7 @@ def run_removal(config: RemovalConfig) -> dict:
         means, frame = run.gaussians["means"].numpy(), camera_frame(scene.cameras)
         opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
         free = find_supports(means, opacity, frame, ProposalConfig()).free
-        free &= ~other_objects(run, run.gaussians, obj.id if obj else None)
+        free &= ~other_objects(run, run.gaussians, obj.id)
         loose = loose_pieces(means, removed, free, core, ProposalConfig.voxel * frame.radius)
         counts["loose"] = int(loose.sum())
         removed |= loose

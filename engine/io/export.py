@@ -55,8 +55,8 @@ def export(config: ExportConfig) -> Path:
         raise InputError(f"--format {config.format}: give one of {', '.join(FORMATS)}")
     run = RunLayout(config.run)
     source = stage_ply(run, config.stage)
-    stem = Path(config.stage or "trained").name if Path(config.stage).is_absolute() else \
-        (config.stage or "trained").replace("/", "-")
+    stage = Path(config.stage)  # a folder named by its path is named by its own name
+    stem = stage.name if stage.is_absolute() else (config.stage or "trained").replace("/", "-")
     out = Path(config.out) if config.out else run.exports / f"{stem}{SUFFIX[config.format]}"
     if out.resolve() == source.resolve():
         raise InputError(f"--out {out} is the scene being exported: write it elsewhere")
