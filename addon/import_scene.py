@@ -1,12 +1,11 @@
 """Bring an engine scene into Blender: COLMAP cameras as Blender cameras, and a 3DGS .ply as point-instanced
-proxies, one object per identity group, so that the Outliner lists the scene's objects.
+splats, one object per identity group, so that the Outliner lists the scene's objects.
 
-The proxies are vertex-only meshes (bpy.data.pointclouds cannot be resized from Python) filled with
-foreach_set from numpy, never a Python loop per Gaussian; a shared geometry-node group instances a small
-ico-sphere on every vertex, rotated by the Gaussian's quaternion and scaled by its standard deviations,
-and leaves the instances unrealized. A shared material colours each instance from its SH DC colour and
-opacity (instance attributes). They are proxies for selecting and seeing the scene; the pictures that
-count are rendered by the engine's rasterizer (scripts/turntable.py).
+Each object is a vertex-only mesh (bpy.data.pointclouds cannot be resized from Python), one vertex per
+Gaussian, filled with foreach_set from numpy, never a Python loop per Gaussian; its vertices carry what the
+shared geometry-node group and material of addon.splat_shading need to draw each one as a Gaussian
+(rotation, scale, colour and opacity, SH bands). Selecting vertices selects Gaussians (the `gaussian`
+attribute is the index in the .ply).
 """
 
 from __future__ import annotations
@@ -20,11 +19,10 @@ from mathutils import Matrix
 from .formats import InputError, colmap_files
 from .formats import cameras as camera_formats
 from .splat_ply import Splats, read_splats, scene_of
+from .splat_shading import SH_ATTRIBUTES, SIGMAS, gaussian_material, set_inputs, splat_node_group
 
-NODE_GROUP = "splatfill proxy"
-MATERIAL = "splatfill splat"
 UPRIGHT_TOLERANCE_DEG = 1.0  # a scene tilted less than this is shown as it is
-PROXY_SIGMAS = 2.0  # instance radius in standard deviations: a 2-sigma ellipsoid holds most of a Gaussian
+SHOWN = 2_000_000  # Gaussians drawn at most on import (the Density input of each object; the rest are kept)
 
 
 def upright_frame(scene_root: Path | None, collection: bpy.types.Collection) -> bpy.types.Object | None:
@@ -100,11 +98,15 @@ def import_cameras(cameras_json: Path, collection: bpy.types.Collection, scene_r
 
 
 def import_splats(path: Path, collection: bpy.types.Collection) -> list[bpy.types.Object]:
-    """One proxy object per identity group of the .ply at `path`, linked into `collection`, upright when the
-    .ply belongs to a run whose scene is known."""
+    """One object per identity group of the .ply at `path`, linked into `collection`, upright when the .ply
+    belongs to a run whose scene is known. A scene of more than SHOWN Gaussians draws that many at random
+    (each object's Density); the scene's view transform becomes Standard, which shows the splats' colours
+    as the engine renders them (AgX, Blender's default, would tone-map them)."""
     splats = read_splats(Path(path))
     frame = upright_frame(scene_of(Path(path)), collection)
-    group_tree, material = proxy_node_group(), splat_material()
+    group_tree, material = splat_node_group(), gaussian_material()
+    density = min(1.0, SHOWN / max(len(splats.positions), 1))
+    bpy.context.scene.view_settings.view_transform = "Standard"
     order = np.argsort(splats.groups, kind="stable")
     ids, starts = np.unique(splats.groups[order], return_index=True)
     objects = []
@@ -114,9 +116,9 @@ def import_splats(path: Path, collection: bpy.types.Collection) -> list[bpy.type
         obj = bpy.data.objects.new(name, mesh)
         obj["splatfill_group"] = int(gid)
         obj["splatfill_ply"] = str(path)
-        modifier = obj.modifiers.new("splatfill proxy", "NODES")
+        modifier = obj.modifiers.new("splatfill splats", "NODES")
         modifier.node_group = group_tree
-        obj.data.materials.append(material)
+        set_inputs(modifier, Density=density, Material=material)
         _link(obj, collection, frame)
         objects.append(obj)
     collection["splatfill_ply"] = str(path)
@@ -128,60 +130,15 @@ def _proxy_mesh(name: str, splats: Splats, index: np.ndarray) -> bpy.types.Mesh:
     mesh.vertices.add(len(index))
     mesh.vertices.foreach_set("co", splats.positions[index].ravel())
     mesh.attributes.new("gaussian", "INT", "POINT").data.foreach_set("value", index.astype(np.int32))
-    for attr, kind, values in (("rotation", "QUATERNION", splats.rotations[index]),
-                               ("scale", "FLOAT_VECTOR", splats.scales[index] * PROXY_SIGMAS),
-                               ("color", "FLOAT_COLOR", splats.colors[index])):
+    rotations = splats.rotations[index]
+    layers = [("rotation", "QUATERNION", rotations), ("quat_xyz", "FLOAT_VECTOR", rotations[:, 1:]),
+              ("quat_w", "FLOAT", rotations[:, 0]), ("scale", "FLOAT_VECTOR", splats.scales[index] * SIGMAS),
+              ("color", "FLOAT_COLOR", splats.colors[index])]
+    layers += [(name, "FLOAT_VECTOR", splats.sh_rest[index, k]) for k, name in
+               enumerate(SH_ATTRIBUTES[: splats.sh_rest.shape[1]])]
+    for attr, kind, values in layers:
         layer = mesh.attributes.new(attr, kind, "POINT")
-        field = {"QUATERNION": "value", "FLOAT_VECTOR": "vector", "FLOAT_COLOR": "color"}[kind]
-        layer.data.foreach_set(field, values.ravel())
+        field = {"QUATERNION": "value", "FLOAT_VECTOR": "vector", "FLOAT_COLOR": "color", "FLOAT": "value"}[kind]
+        layer.data.foreach_set(field, np.ascontiguousarray(values, np.float32).ravel())
     mesh.update()
     return mesh
-
-
-def proxy_node_group() -> bpy.types.NodeTree:
-    """Instance on Points: an ico-sphere per vertex, rotated and scaled by its attributes, unrealized."""
-    tree = bpy.data.node_groups.get(NODE_GROUP)
-    if tree is not None:
-        return tree
-    tree = bpy.data.node_groups.new(NODE_GROUP, "GeometryNodeTree")
-    tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-    tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
-    nodes, links = tree.nodes, tree.links
-    group_in, group_out = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
-    instance = nodes.new("GeometryNodeInstanceOnPoints")
-    sphere = nodes.new("GeometryNodeMeshIcoSphere")
-    sphere.inputs["Subdivisions"].default_value = 1
-    rotation, scale = nodes.new("GeometryNodeInputNamedAttribute"), nodes.new("GeometryNodeInputNamedAttribute")
-    rotation.data_type, scale.data_type = "QUATERNION", "FLOAT_VECTOR"
-    rotation.inputs["Name"].default_value, scale.inputs["Name"].default_value = "rotation", "scale"
-    material = nodes.new("GeometryNodeSetMaterial")
-    material.inputs["Material"].default_value = splat_material()
-    links.new(group_in.outputs[0], instance.inputs["Points"])
-    links.new(sphere.outputs["Mesh"], material.inputs["Geometry"])
-    links.new(material.outputs["Geometry"], instance.inputs["Instance"])
-    links.new(rotation.outputs["Attribute"], instance.inputs["Rotation"])
-    links.new(scale.outputs["Attribute"], instance.inputs["Scale"])
-    links.new(instance.outputs["Instances"], group_out.inputs[0])
-    return tree
-
-
-def splat_material() -> bpy.types.Material:
-    """Emission in the instance's SH DC colour, mixed with transparency by its opacity."""
-    material = bpy.data.materials.get(MATERIAL)
-    if material is not None:
-        return material
-    material = bpy.data.materials.new(MATERIAL)
-    material.use_nodes = True
-    nodes, links = material.node_tree.nodes, material.node_tree.links
-    nodes.clear()
-    attribute = nodes.new("ShaderNodeAttribute")
-    attribute.attribute_type, attribute.attribute_name = "INSTANCER", "color"
-    emission, transparent = nodes.new("ShaderNodeEmission"), nodes.new("ShaderNodeBsdfTransparent")
-    mix, output = nodes.new("ShaderNodeMixShader"), nodes.new("ShaderNodeOutputMaterial")
-    links.new(attribute.outputs["Color"], emission.inputs["Color"])
-    links.new(attribute.outputs["Alpha"], mix.inputs["Fac"])
-    links.new(transparent.outputs[0], mix.inputs[1])
-    links.new(emission.outputs[0], mix.inputs[2])
-    links.new(mix.outputs[0], output.inputs["Surface"])
-    material.diffuse_color = (0.8, 0.8, 0.8, 1.0)
-    return material

@@ -20,7 +20,9 @@ class Splats:
     positions: np.ndarray  # (N, 3) float32
     rotations: np.ndarray  # (N, 4) float32 unit quaternions, w x y z
     scales: np.ndarray  # (N, 3) float32, standard deviations in world units
-    colors: np.ndarray  # (N, 4) float32 linear RGB from the SH DC term, alpha = opacity
+    colors: np.ndarray  # (N, 4) float32 RGB of the SH DC term as the engine renders it (sRGB-encoded picture
+    # values, not clamped: the higher bands add to it before the clamp), alpha = opacity
+    sh_rest: np.ndarray  # (N, K, 3) float32 coefficients of the SH bands above 0 (K = 0, 3, 8 or 15)
     groups: np.ndarray  # (N,) int32 identity group (0 without a classifier)
     names: dict[int, str]  # group id -> object name
 
@@ -33,7 +35,10 @@ def read_splats(path: Path) -> Splats:
     columns = lambda prefix, n: np.stack([v[f"{prefix}{i}"] for i in range(n)], axis=1).astype(np.float32)  # noqa: E731
     rotations = columns("rot_", 4)
     rotations /= np.maximum(np.linalg.norm(rotations, axis=1, keepdims=True), 1e-12)
-    rgb = np.clip(0.5 + splat_ply.SH_C0 * columns("f_dc_", 3), 0.0, 1.0)
+    rgb = 0.5 + splat_ply.SH_C0 * columns("f_dc_", 3)
+    rest = len([n for n in v.dtype.names if n.startswith("f_rest_")]) // 3
+    sh_rest = (columns("f_rest_", 3 * rest).reshape(len(v), 3, rest).transpose(0, 2, 1)  # channel-major in the file
+               if rest else np.zeros((len(v), 0, 3), np.float32))
     alpha = 1.0 / (1.0 + np.exp(-v["opacity"].astype(np.float32)))
     groups = np.zeros(len(v), np.int32)
     names = {0: "background"}
@@ -48,7 +53,7 @@ def read_splats(path: Path) -> Splats:
         names = _object_names(run, len(bias))
     return Splats(positions=np.stack([v["x"], v["y"], v["z"]], 1).astype(np.float32), rotations=rotations,
                   scales=np.exp(columns("scale_", 3)), colors=np.concatenate([rgb, alpha[:, None]], 1),
-                  groups=groups, names=names)
+                  sh_rest=np.ascontiguousarray(sh_rest), groups=groups, names=names)
 
 
 def scene_of(ply: Path) -> Path | None:

@@ -121,3 +121,15 @@ def test_a_view_that_draws_nothing_still_gives_the_2d_means_a_zero_gradient():
     info["means2d"].retain_grad()
     (image.sum() + alpha.sum() + colors.sum()).backward()
     assert info["means2d"].grad is not None and not info["means2d"].grad.any()
+
+
+def test_the_sh_polynomials_blender_shades_with_are_the_engines_basis():
+    """engine.formats.splat_ply.SH_POLYNOMIALS (what the add-on's shader nodes evaluate) against
+    engine.render.sh.sh_basis on random directions: a sign or exponent copied wrong fails here."""
+    from engine.formats.splat_ply import SH_POLYNOMIALS
+    from engine.render.sh import sh_basis
+
+    dirs = torch.nn.functional.normalize(torch.randn(50, 3, dtype=torch.float64), dim=-1)
+    x, y, z = dirs.unbind(-1)
+    table = torch.stack([sum(c * x**a * y**b * z**e for c, (a, b, e) in terms) for terms in SH_POLYNOMIALS], -1)
+    assert torch.allclose(table, sh_basis(3, dirs)[:, 1:], atol=1e-12)

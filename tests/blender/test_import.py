@@ -101,12 +101,12 @@ def test_ply_import_makes_one_proxy_object_per_identity_with_its_gaussians(tmp_p
     counts = {o.name: len(o.data.vertices) for o in objects}
     assert counts == {"background": 500, "sofa": 300, "plush": 120, "object_3": 7}
     plush = bpy.data.objects["plush"]
-    assert plush["splatfill_group"] == 2 and plush.modifiers[0].node_group.name == "splatfill proxy"
+    assert plush["splatfill_group"] == 2 and plush.modifiers[0].node_group.name == "splatfill splats"
     evaluated = plush.evaluated_get(bpy.context.evaluated_depsgraph_get())
     assert len(evaluated.evaluated_geometry().instances_pointcloud().points) == 120  # unrealized instances
     scale = np.zeros(120 * 3, np.float32)
     plush.data.attributes["scale"].data.foreach_get("vector", scale)
-    assert np.allclose(scale, 0.02)  # 2 sigma of exp(log 0.01)
+    assert np.allclose(scale, 0.03)  # the instance reaches 3 sigma of exp(log 0.01)
 
 
 def test_corrupt_ply_names_the_file(tmp_path: Path):
