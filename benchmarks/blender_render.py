@@ -46,6 +46,9 @@ def set_up_render(engine: str) -> None:
         scene.eevee.taa_render_samples = 64
     world = bpy.data.worlds.new("black")
     world.color = (0.0, 0.0, 0.0)
+    for node in world.node_tree.nodes if world.node_tree else ():
+        if node.bl_idname == "ShaderNodeBackground":
+            node.inputs["Strength"].default_value = 0.0
     scene.world = world
     scene.render.film_transparent = False
     scene.view_settings.view_transform, scene.view_settings.look = "Standard", "None"
@@ -70,19 +73,27 @@ def psnr(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def compare(run: Path, ply: Path, views: list[str], out: Path, engine: str = "cycles") -> dict:
-    """Per-view PSNR (dB) of Blender's render against the engine's, and seconds per Blender view."""
+    """compare_cameras on the run's scene cameras (its test views unless `views` names others)."""
     scene_dir = Path(checks.read_json(layout.RunLayout(run).config_json)["scene"])
     views = views or checks.read_json(layout.SceneLayout(scene_dir).split_json)["test"]
     cameras = out / "cameras.json"
     run_engine(["cameras", "--scene", str(scene_dir), "--out", str(cameras)])
     chosen = [c for c in json.loads(cameras.read_text()) if c["name"] in views]
     (out / "views.json").write_text(json.dumps(chosen))
-    run_engine(["render", "--ply", str(ply), "--cameras", str(out / "views.json"), "--out", str(out / "engine"),
+    return compare_cameras(ply, out / "views.json", out, engine, scene_dir)
+
+
+def compare_cameras(ply: Path, cameras_json: Path, out: Path, engine: str = "cycles",
+                    scene_dir: Path | None = None) -> dict:
+    """Per-view PSNR (dB) of Blender's render of `ply` against the engine's, for each camera of a cameras.json
+    (engine.formats.cameras), and seconds per Blender view."""
+    chosen = json.loads(Path(cameras_json).read_text())
+    run_engine(["render", "--ply", str(ply), "--cameras", str(cameras_json), "--out", str(out / "engine"),
                 "--device", "cpu"])
     bpy.ops.wm.read_factory_settings(use_empty=True)
     collection = bpy.data.collections.new("compare")
     bpy.context.scene.collection.children.link(collection)
-    import_cameras(out / "views.json", collection, scene_dir)
+    import_cameras(Path(cameras_json), collection, scene_dir)
     import_splats(ply, collection)
     set_up_render(engine)
     scene, scores, seconds = bpy.context.scene, {}, []
