@@ -27,7 +27,7 @@ endif
 .PHONY: setup demo test test-fast lint
 setup: .venv/.ready .venv-blender/.ready $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_WEIGHTS)
 
-.venv/.ready: requirements/engine.txt
+.venv/.ready: requirements/engine.txt engine/requirements.txt
 	$(PYTHON) -m venv .venv
 	$(ENGINE) -m pip install -q --upgrade pip
 	$(ENGINE) -m pip install -q -r requirements/engine.txt

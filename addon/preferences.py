@@ -6,9 +6,12 @@ arguments (which a log or the process list would show)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import bpy
 
 from .engine_call import REPO_ROOT
+from .engine_setup import env_python
 
 EXTENSION_PACKAGE = __package__.rpartition(".")[0]  # the extension's module, e.g. bl_ext.user_default.splatfill
 
@@ -18,7 +21,7 @@ class SplatfillPreferences(bpy.types.AddonPreferences):
 
     engine_python: bpy.props.StringProperty(
         name="Engine Python",
-        description="Python of the engine environment (made by `make setup`); empty = the repo's .venv",
+        description="Python of the engine environment; empty = the one Set up Engine made, else a checkout's .venv",
         subtype="FILE_PATH",
         default="",
     )
@@ -39,11 +42,29 @@ class SplatfillPreferences(bpy.types.AddonPreferences):
 
     def draw(self, context: bpy.types.Context) -> None:
         layout = self.layout
+        made = env_python(setup_folder() / ENV_FOLDER)
+        row = layout.row()
+        row.operator("splatfill.setup_engine", icon="CONSOLE")
+        row.operator("splatfill.check_engine", icon="CHECKMARK")
+        layout.label(text=f"Set-up environment: {made}" + ("" if made.is_file() else " (not made yet)"))
         layout.prop(self, "engine_python")
-        layout.label(text=f"Default: {REPO_ROOT / '.venv'}")
+        layout.label(text=f"Default: the set-up environment, else {REPO_ROOT / '.venv'}")
         layout.prop(self, "device")
         for name in ("lpips_backbone", "fid_weights", "lama_model", "nanobanana_key"):
             layout.prop(self, name)
+
+
+ENV_FOLDER, WEIGHTS_FOLDER = "engine-env", "weights"  # in setup_folder()
+
+
+def setup_folder() -> Path:
+    """The extension's user folder (kept when the extension updates), where Set up Engine makes the engine's
+    environment and puts its weights; registered outside the extension system (a checkout, tests), a
+    splatfill folder among the user's scripts."""
+    try:
+        return Path(bpy.utils.extension_path_user(EXTENSION_PACKAGE, path="", create=True))
+    except ValueError:
+        return Path(bpy.utils.user_resource("SCRIPTS", path="splatfill", create=True))
 
 
 def preferences() -> SplatfillPreferences | None:

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 
 def _modules():
-    from . import capture, check_engine, panel, pipeline
+    from . import capture, check_engine, panel, pipeline, setup_engine
 
-    return (check_engine, pipeline, capture, panel)
+    return (check_engine, setup_engine, pipeline, capture, panel)
 
 
 def register() -> None:

@@ -9,12 +9,14 @@ makes the import one undo step.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 
 import bpy
 
 from ..addon.engine_call import EngineError, EngineJob, run_engine
-from ..addon.preferences import preferences
+from ..addon.engine_setup import env_python
+from ..addon.preferences import ENV_FOLDER, WEIGHTS_FOLDER, preferences, setup_folder
 
 
 class UserError(Exception):
@@ -32,15 +34,21 @@ class EngineSettings:
 
 
 def engine_settings() -> EngineSettings:
-    prefs = preferences()
+    """The preferences' settings; where they name no Python, the environment Set up Engine made (unless
+    SPLATFILL_ENGINE_PYTHON names one), with the weights it took."""
+    prefs, folder = preferences(), setup_folder()
+    made = env_python(folder / ENV_FOLDER)
+    default = str(made) if made.is_file() and not os.environ.get("SPLATFILL_ENGINE_PYTHON") else ""
+    weights = (folder / WEIGHTS_FOLDER).is_dir() and not os.environ.get("SPLATFILL_WEIGHTS")
+    env = {"SPLATFILL_WEIGHTS": str(folder / WEIGHTS_FOLDER)} if weights else {}
     if prefs is None:  # registered without the extension system (scripts, tests): the engine picks
-        return EngineSettings()
-    env = {key: bpy.path.abspath(value) for key, value in (("LPIPS_BACKBONE", prefs.lpips_backbone),
-                                                           ("FID_INCEPTION", prefs.fid_weights),
-                                                           ("LAMA_MODEL", prefs.lama_model)) if value}
+        return EngineSettings(python=default, env=env)
+    env.update({key: bpy.path.abspath(value) for key, value in (("LPIPS_BACKBONE", prefs.lpips_backbone),
+                                                                ("FID_INCEPTION", prefs.fid_weights),
+                                                                ("LAMA_MODEL", prefs.lama_model)) if value})
     if prefs.nanobanana_key:
         env["GEMINI_API_KEY"] = prefs.nanobanana_key
-    python = bpy.path.abspath(prefs.engine_python) if prefs.engine_python else ""
+    python = bpy.path.abspath(prefs.engine_python) if prefs.engine_python else default
     return EngineSettings(prefs.device, python, env)
 
 
