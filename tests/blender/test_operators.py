@@ -332,9 +332,9 @@ def _probe_wheel(folder: Path) -> None:
              "splatfill_probe-0.1.dist-info/METADATA": "Metadata-Version: 2.1\nName: splatfill-probe\nVersion: 0.1\n",
              "splatfill_probe-0.1.dist-info/WHEEL": "Wheel-Version: 1.0\nGenerator: test\nRoot-Is-Purelib: true\n"
                                                     "Tag: py3-none-any\n"}
-    record = [f"{name},sha256={base64.urlsafe_b64encode(hashlib.sha256(text.encode()).digest()).rstrip(b'=').decode()},"
-              f"{len(text.encode())}" for name, text in files.items()]
-    files["splatfill_probe-0.1.dist-info/RECORD"] = "\n".join(record + ["splatfill_probe-0.1.dist-info/RECORD,,"]) + "\n"
+    digest = lambda text: base64.urlsafe_b64encode(hashlib.sha256(text.encode()).digest()).rstrip(b"=").decode()  # noqa: E731
+    record = [f"{name},sha256={digest(text)},{len(text.encode())}" for name, text in files.items()]
+    files["splatfill_probe-0.1.dist-info/RECORD"] = "\n".join([*record, "splatfill_probe-0.1.dist-info/RECORD,,"]) + "\n"
     folder.mkdir(parents=True)
     with zipfile.ZipFile(folder / "splatfill_probe-0.1-py3-none-any.whl", "w") as wheel:
         for name, text in files.items():
