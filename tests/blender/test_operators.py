@@ -334,7 +334,7 @@ def _probe_wheel(folder: Path) -> None:
                                                     "Tag: py3-none-any\n"}
     digest = lambda text: base64.urlsafe_b64encode(hashlib.sha256(text.encode()).digest()).rstrip(b"=").decode()  # noqa: E731
     record = [f"{name},sha256={digest(text)},{len(text.encode())}" for name, text in files.items()]
-    files["splatfill_probe-0.1.dist-info/RECORD"] = "\n".join([*record, "splatfill_probe-0.1.dist-info/RECORD,,"]) + "\n"
+    files["splatfill_probe-0.1.dist-info/RECORD"] = "\n".join([*record, "splatfill_probe-0.1.dist-info/RECORD,,", ""])
     folder.mkdir(parents=True)
     with zipfile.ZipFile(folder / "splatfill_probe-0.1-py3-none-any.whl", "w") as wheel:
         for name, text in files.items():
