@@ -19,7 +19,7 @@ from mathutils import Matrix
 from .formats import InputError, colmap_files
 from .formats import cameras as camera_formats
 from .splat_ply import Splats, read_splats, scene_of
-from .splat_shading import SH_ATTRIBUTES, SIGMAS, gaussian_material, set_inputs, splat_node_group
+from .splat_shading import SH_ATTRIBUTES, extents, gaussian_material, set_inputs, splat_node_group
 
 UPRIGHT_TOLERANCE_DEG = 1.0  # a scene tilted less than this is shown as it is
 SHOWN = 2_000_000  # Gaussians drawn at most on import (the Density input of each object; the rest are kept)
@@ -130,9 +130,10 @@ def _proxy_mesh(name: str, splats: Splats, index: np.ndarray) -> bpy.types.Mesh:
     mesh.vertices.add(len(index))
     mesh.vertices.foreach_set("co", splats.positions[index].ravel())
     mesh.attributes.new("gaussian", "INT", "POINT").data.foreach_set("value", index.astype(np.int32))
-    rotations = splats.rotations[index]
+    rotations, extent = splats.rotations[index], extents(splats.colors[index, 3])
     layers = [("rotation", "QUATERNION", rotations), ("quat_xyz", "FLOAT_VECTOR", rotations[:, 1:]),
-              ("quat_w", "FLOAT", rotations[:, 0]), ("scale", "FLOAT_VECTOR", splats.scales[index] * SIGMAS),
+              ("quat_w", "FLOAT", rotations[:, 0]), ("extent", "FLOAT", extent),
+              ("scale", "FLOAT_VECTOR", splats.scales[index] * extent[:, None]),
               ("color", "FLOAT_COLOR", splats.colors[index])]
     layers += [(name, "FLOAT_VECTOR", splats.sh_rest[index, k]) for k, name in
                enumerate(SH_ATTRIBUTES[: splats.sh_rest.shape[1]])]

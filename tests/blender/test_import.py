@@ -15,6 +15,7 @@ from addon.formats import cameras as camera_formats
 from addon.formats import splat_ply
 from addon.import_scene import import_cameras, import_splats
 from addon.splat_ply import read_splats
+from addon.splat_shading import extents
 from engine.base.errors import InputError
 
 # landscape, portrait, fx != fy, and principal points off centre: the cases a 36 mm shortcut gets wrong
@@ -106,7 +107,9 @@ def test_ply_import_makes_one_proxy_object_per_identity_with_its_gaussians(tmp_p
     assert len(evaluated.evaluated_geometry().instances_pointcloud().points) == 120  # unrealized instances
     scale = np.zeros(120 * 3, np.float32)
     plush.data.attributes["scale"].data.foreach_get("vector", scale)
-    assert np.allclose(scale, 0.03)  # the instance reaches 3 sigma of exp(log 0.01)
+    opacity = 1 / (1 + np.exp(-np.array([2.0])))  # the fake run's opacity logit
+    assert np.allclose(scale, 0.01 * extents(opacity)[0])  # the instance reaches the Gaussian's drawn extent
+    assert 2.9 < extents(opacity)[0] < 3.0 and extents(np.array([0.5 / 255]))[0] == 0
 
 
 def test_corrupt_ply_names_the_file(tmp_path: Path):
