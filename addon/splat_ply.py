@@ -1,5 +1,5 @@
 """Turn a 3DGS .ply (read by engine.formats.splat_ply, the reader the engine uses too) into what a Blender
-proxy shows: position, rotation, scale, colour, opacity and the identity group.
+Blender draws: position, rotation, scale, colour, opacity, SH bands and the identity group.
 
 It needs no bpy, so the tests check it without Blender. The groups come from the run's classifier.npz
 (the engine writes it numpy-only for this reason): argmax of the per-Gaussian class logits.

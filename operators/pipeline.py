@@ -113,7 +113,7 @@ class SPLATFILL_OT_import_splats(bpy.types.Operator):
     bl_idname = "splatfill.import_splats"
     bl_label = "Import Gaussian Splats"
     bl_description = ("Import a splat file (3DGS .ply, SuperSplat's compressed .ply, .splat or .spz) as "
-                      "point-instanced proxies, one object per identity group")
+                      "Gaussians (falloff, opacity, view-dependent colour), one object per identity group")
     bl_options = {"REGISTER", "UNDO"}
     filepath: bpy.props.StringProperty(subtype="FILE_PATH")
     filter_glob: bpy.props.StringProperty(default="*.ply;*.splat;*.spz", options={"HIDDEN"})
