@@ -1,4 +1,4 @@
-"""Turn a 3DGS .ply (read by engine.formats.splat_ply, the reader the engine uses too) into what a Blender
+"""Turn a 3DGS .ply (read by engine.formats.splat_ply, the reader the engine uses too) into what
 Blender draws: position, rotation, scale, colour, opacity, SH bands and the identity group.
 
 It needs no bpy, so the tests check it without Blender. The groups come from the run's classifier.npz
