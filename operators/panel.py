@@ -35,6 +35,15 @@ class SPLATFILL_PT_pipeline(bpy.types.Panel):
         obj = context.active_object
         if obj is not None and "splatfill_group" in obj:
             layout.label(text=f"{obj.name}: group {obj['splatfill_group']}, {len(obj.data.vertices):,} Gaussians")
+        box = layout.box().column(align=True)  # what Blender's undo does not reach, said where the buttons are
+        for line in UNDO_NOTE:
+            box.label(text=line)
+
+
+# Every step writes a new folder in the run and imports it as a new collection; Undo takes the collection back
+# but not the folder. Only the objects found live in place (RUN/segments), and Restore Objects swaps them back.
+UNDO_NOTE = ("Undo removes what a step imported;", "its folder in the run stays.",
+             "Restore Objects undoes Find Objects", "and Object from Selection.")
 
 
 def register() -> None:

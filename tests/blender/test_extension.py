@@ -36,7 +36,7 @@ def test_manifest_validates():
 def test_zip_carries_the_code_but_no_environments_tests_or_developer_tools(extension_zip: Path):
     names = zipfile.ZipFile(extension_zip).namelist()
     assert "blender_manifest.toml" in names and "engine/io/scene.py" in names and "operators/check_engine.py" in names
-    assert "scripts/make_scene.py" in names
+    assert "scripts/make_scene.py" in names and "engine/requirements.txt" in names  # what Set up Engine installs
     assert not [n for n in names if n.startswith((".venv", "tests/", ".git", "benchmarks/", "docs/"))]
 
 
@@ -79,5 +79,31 @@ def test_the_gemini_key_reaches_the_engine_only_through_its_environment(extensio
         blend = tmp_path / "scene.blend"
         bpy.ops.wm.save_as_mainfile(filepath=str(blend))
         assert secret.encode() not in blend.read_bytes()
+    finally:
+        addon_utils.disable(MODULE, default_set=True)
+
+
+def test_the_installed_extensions_set_up_engine_uses_its_user_folder(extension_zip: Path, monkeypatch):
+    """Installed from the zip, with no checkout named anywhere: Set up Engine finds the environment in the
+    extension's user folder (linked to the checkout's .venv here, standing for one it made before), checks it,
+    and the preferences' Engine Python then names it."""
+    monkeypatch.delenv("SPLATFILL_ENGINE_PYTHON", raising=False)
+    monkeypatch.delenv("SPLATFILL_WEIGHTS", raising=False)
+    assert bpy.ops.extensions.package_install_files(filepath=str(extension_zip), repo="user_default",
+                                                    enable_on_install=True) == {"FINISHED"}
+    try:
+        folder = Path(bpy.utils.extension_path_user(MODULE, path="", create=True))
+        env = folder / "engine-env"
+        if not env.exists():
+            env.symlink_to(REPO / ".venv", target_is_directory=True)
+        (folder / "weights").mkdir(exist_ok=True)
+        for weight in (REPO / ".weights").iterdir():
+            if weight.is_file() and not (folder / "weights" / weight.name).exists():
+                (folder / "weights" / weight.name).symlink_to(weight)
+        prefs = bpy.context.preferences.addons[MODULE].preferences
+        prefs.engine_python = ""
+        assert bpy.ops.splatfill.setup_engine() == {"FINISHED"}
+        assert prefs.engine_python == str(env / "bin" / "python")
+        assert "== check the engine" in (folder / "setup.log").read_text()
     finally:
         addon_utils.disable(MODULE, default_set=True)
