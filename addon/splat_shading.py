@@ -144,7 +144,7 @@ def gaussian_material() -> bpy.types.Material:
     inside = n.node("ShaderNodeTexCoord").outputs["Object"]
     toward = n.node("ShaderNodeVectorTransform", {0: geometry.outputs["Incoming"]}, vector_type="VECTOR",
                     convert_from="WORLD", convert_to="OBJECT").outputs[0]
-    alpha = _gaussian_alpha(n, inside, toward, geometry.outputs["Backfacing"])
+    alpha = _gaussian_alpha(n, inside, toward, geometry)
     colour = _sh_colour(n, _view_direction(n, toward))
     emission = n.node("ShaderNodeEmission", {"Color": _srgb_to_linear(n, colour), "Strength": 1.0})
     clear = n.node("ShaderNodeBsdfTransparent")
@@ -153,7 +153,7 @@ def gaussian_material() -> bpy.types.Material:
     return material
 
 
-def _gaussian_alpha(n: _Nodes, inside, toward, backfacing) -> bpy.types.NodeSocket:
+def _gaussian_alpha(n: _Nodes, inside, toward, geometry: bpy.types.Node) -> bpy.types.NodeSocket:
     """opacity * exp(-m^2 / 2), m the ray's closest approach to the centre in standard deviations; 0 on back
     faces and for a Gaussian whose centre lies behind the camera's near plane (the rasterizer culls those: a
     large one around the camera would otherwise veil the view); capped at 0.999 and 0 under 1/255, as the
@@ -170,9 +170,9 @@ def _gaussian_alpha(n: _Nodes, inside, toward, backfacing) -> bpy.types.NodeSock
     # camera-space z of the centre, signed by the hit point's (always in front: the engines' camera spaces
     # disagree on which way the camera looks)
     depth = n.math("MULTIPLY", camera(n.node("ShaderNodeObjectInfo").outputs["Location"]),
-                   n.math("SIGN", camera(n.node("ShaderNodeNewGeometry").outputs["Position"])))
+                   n.math("SIGN", camera(geometry.outputs["Position"])))
     ahead = n.math("GREATER_THAN", depth, NEAR_PLANE)
-    front = n.math("MULTIPLY", n.math("SUBTRACT", 1.0, backfacing), ahead)
+    front = n.math("MULTIPLY", n.math("SUBTRACT", 1.0, geometry.outputs["Backfacing"]), ahead)
     alpha = n.math("MULTIPLY", n.math("MULTIPLY", n.attribute("color").outputs["Alpha"], falloff), front)
     alpha = n.math("MINIMUM", alpha, 0.999)
     return n.math("MULTIPLY", alpha, n.math("GREATER_THAN", alpha, MIN_ALPHA))
