@@ -29,6 +29,15 @@ class EngineError(RuntimeError):
     """The engine failed; the message is its one-line error."""
 
 
+def stop_session(proc: subprocess.Popen) -> None:
+    """SIGTERM to a process started with start_new_session=True and everything it started, if still running."""
+    if proc.poll() is None:
+        if hasattr(os, "killpg"):
+            os.killpg(proc.pid, signal.SIGTERM)
+        else:
+            proc.terminate()
+
+
 def engine_python(configured: str = "") -> Path:
     """The engine environment's interpreter (`configured`, else SPLATFILL_ENGINE_PYTHON, else the repo's
     .venv), or a clear error saying how to make one."""
@@ -90,11 +99,7 @@ class EngineJob:
     def cancel(self) -> None:
         """SIGTERM to the engine's process group: training checkpoints and stops; other stages stop before
         their output folder is renamed into place, so nothing half-written is left."""
-        if self.proc.poll() is None:
-            if hasattr(os, "killpg"):
-                os.killpg(self.proc.pid, signal.SIGTERM)
-            else:
-                self.proc.terminate()
+        stop_session(self.proc)
 
     def result(self) -> list[dict]:
         """Every record, once the process ended; EngineError with its one-line message if it failed."""

@@ -11,15 +11,13 @@ the operator (operators/setup_engine.py) drives a SetupJob from a timer, or to t
 
 from __future__ import annotations
 
-import os
 import shutil
-import signal
 import subprocess
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .engine_call import REPO_ROOT, EngineError, engine_env
+from .engine_call import REPO_ROOT, EngineError, engine_env, stop_session
 
 REQUIREMENTS = REPO_ROOT / "engine" / "requirements.txt"
 CPU_TORCH_INDEX = "https://download.pytorch.org/whl/cpu"  # torch's CPU builds, a tenth of the CUDA one's size
@@ -119,11 +117,8 @@ class SetupJob:
             raise EngineError(self.error)
 
     def cancel(self) -> None:
-        if self.proc is not None and self.proc.poll() is None:
-            if hasattr(os, "killpg"):
-                os.killpg(self.proc.pid, signal.SIGTERM)
-            else:
-                self.proc.terminate()
+        if self.proc is not None:
+            stop_session(self.proc)
             self.proc.wait()
         self.error = self.error or f"set-up cancelled at '{self.label}'; run Set up Engine again to go on"
 

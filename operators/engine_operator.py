@@ -76,11 +76,7 @@ class EngineOperator:
         except (UserError, EngineError) as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
-        wm = context.window_manager
-        wm.progress_begin(0, 1000)
-        self._timer = wm.event_timer_add(0.2, window=context.window)
-        wm.modal_handler_add(self)
-        return {"RUNNING_MODAL"}
+        return begin_modal(self, context, 1000, 0.2)
 
     def modal(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
         job = self._job
@@ -97,18 +93,12 @@ class EngineOperator:
                                                   "  (Esc cancels)")
         if not job.finished:
             return {"RUNNING_MODAL"}
-        self._end(context)
+        end_modal(self, context)
         try:
             return self._done(context, job.result())
         except EngineError as exc:
             self.report({"ERROR"}, f"splatfill: {exc}")
             return {"CANCELLED"}
-
-    def _end(self, context: bpy.types.Context) -> None:
-        wm = context.window_manager
-        wm.event_timer_remove(self._timer)
-        wm.progress_end()
-        context.workspace.status_text_set(None)
 
     def _done(self, context: bpy.types.Context, records: list[dict]) -> set[str]:
         try:
@@ -117,6 +107,23 @@ class EngineOperator:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
         return {"FINISHED"}
+
+
+def begin_modal(operator: bpy.types.Operator, context: bpy.types.Context, total: int, interval: float) -> set[str]:
+    """Start a modal operator's progress bar (0..total) and the timer (every `interval` s) that polls its job."""
+    wm = context.window_manager
+    wm.progress_begin(0, total)
+    operator._timer = wm.event_timer_add(interval, window=context.window)
+    wm.modal_handler_add(operator)
+    return {"RUNNING_MODAL"}
+
+
+def end_modal(operator: bpy.types.Operator, context: bpy.types.Context) -> None:
+    """Undo begin_modal, and clear the status bar."""
+    wm = context.window_manager
+    wm.event_timer_remove(operator._timer)
+    wm.progress_end()
+    context.workspace.status_text_set(None)
 
 
 def done_record(records: list[dict], stage: str) -> dict:

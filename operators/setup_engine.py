@@ -8,6 +8,7 @@ import bpy
 from ..addon.engine_call import EngineError
 from ..addon.engine_setup import SetupConfig, SetupJob, env_python
 from ..addon.preferences import ENV_FOLDER, WEIGHTS_FOLDER, preferences, setup_folder
+from .engine_operator import begin_modal, end_modal
 
 
 class SPLATFILL_OT_setup_engine(bpy.types.Operator):
@@ -42,11 +43,7 @@ class SPLATFILL_OT_setup_engine(bpy.types.Operator):
                 self.report({"ERROR"}, str(exc))
                 return {"CANCELLED"}
             return self._done()
-        wm = context.window_manager
-        wm.progress_begin(0, len(self._job.steps))
-        self._timer = wm.event_timer_add(0.5, window=context.window)
-        wm.modal_handler_add(self)
-        return {"RUNNING_MODAL"}
+        return begin_modal(self, context, len(self._job.steps), 0.5)
 
     def modal(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
         job = self._job
@@ -60,9 +57,7 @@ class SPLATFILL_OT_setup_engine(bpy.types.Operator):
                                           "(Esc cancels)")
         if not job.finished:
             return {"RUNNING_MODAL"}
-        context.window_manager.event_timer_remove(self._timer)
-        context.window_manager.progress_end()
-        context.workspace.status_text_set(None)
+        end_modal(self, context)
         if job.error:
             self.report({"ERROR"}, job.error)
             return {"CANCELLED"}
