@@ -4,7 +4,7 @@ loop, each inpainter's own parallelism), RGB and depth, on real photos with a re
     PYTHONPATH=. python benchmarks/inpaint_speed.py PHOTOS RESULTS [VIEWS]
 
 Each of VIEWS (default 16) photos is resized to 1 megapixel; its hole is the salient object a photo is centred
-on (engine.train.salient's u2netp map above 0.5, grown by 5 px), what a capture's hole covers; its depth a
+on (engine.segment.salient's u2netp map above 0.5, grown by 5 px), what a capture's hole covers; its depth a
 smooth slope. RESULTS/inpaint_speed.json: per inpainter the seconds per view (wall time over the views, workers
 and their start included), the workers and how, the mean hole in pixels; inpainters that cannot run here
 (weights or packages missing) with the reason.
@@ -44,7 +44,7 @@ class ViewFill:
 
 
 def views(photos: Path, count: int) -> tuple[list[np.ndarray], list[np.ndarray]]:
-    from engine.train.salient import SalientNet
+    from engine.segment.salient import SalientNet
 
     net = SalientNet()
     files = sorted(p for p in photos.iterdir() if p.suffix.lower() in (".jpg", ".jpeg", ".png"))

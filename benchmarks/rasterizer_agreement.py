@@ -20,8 +20,8 @@ import torch
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from engine.base.versions import code_commit  # noqa: E402
+from engine.capture.scene import load_scene  # noqa: E402
 from engine.io.gaussians import init_from_points  # noqa: E402
-from engine.io.scene import load_scene  # noqa: E402
 from engine.render.rasterize import CameraTensors, render  # noqa: E402
 
 

@@ -28,9 +28,9 @@ RESULTS = ALL_RESULTS / "removal"
 
 def measure(scene: Path, run: Path, thresholds: list[float], tolerances: list[float], margins: list[float],
             work: Path) -> dict:
+    from engine.capture.scene import load_scene
     from engine.edit.holes import HoleConfig, run_holes
     from engine.edit.removal import RemovalConfig, run_removal
-    from engine.io.scene import load_scene
 
     target = load_scene(scene).target
     removals = []

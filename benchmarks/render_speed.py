@@ -23,7 +23,7 @@ import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from engine.io.scene import load_scene  # noqa: E402
+from engine.capture.scene import load_scene  # noqa: E402
 from engine.render.rasterize import EPS2D, NEAR_PLANE, CameraTensors  # noqa: E402
 
 

@@ -1,4 +1,4 @@
-"""Benchmark objects found without ground-truth masks (engine.train.segments) on generated scenes, whose
+"""Benchmark objects found without ground-truth masks (engine.segment.run) on generated scenes, whose
 exact instance masks are hidden from `segment` and used only to score it.
 
     python benchmarks/segments.py --run RUN [--run RUN ...] --results DIR
@@ -42,7 +42,7 @@ def measure(run_dir: Path, work: Path, pictures: Path, solid: float, seed: int =
     from engine.formats.layout import SegmentsLayout
     from engine.io.image_io import write_png
     from engine.metrics.segment_scores import association_accuracy, perturb_masks, proposal_scores
-    from engine.train.segments import SegmentConfig, run_segment
+    from engine.segment.run import SegmentConfig, run_segment
     from engine.train.trained_run import load_run
 
     run = load_run(run_dir)
@@ -81,7 +81,7 @@ def measure(run_dir: Path, work: Path, pictures: Path, solid: float, seed: int =
 
 
 def run_bench(args: argparse.Namespace) -> None:
-    from engine.train.proposals import ProposalConfig
+    from engine.geometry.scene_geometry import ProposalConfig
 
     args.solid = ProposalConfig.solid if args.solid is None else args.solid
     for run in args.run:

@@ -25,8 +25,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from engine.base.device import pick_device  # noqa: E402
 from engine.base.versions import gpu_name  # noqa: E402
+from engine.capture.scene import load_scene  # noqa: E402
 from engine.formats.layout import RunLayout  # noqa: E402
-from engine.io.scene import load_scene  # noqa: E402
 from engine.train.config import TrainConfig  # noqa: E402
 from engine.train.run import latest_checkpoint, save_checkpoint  # noqa: E402
 from engine.train.trainer import Trainer  # noqa: E402

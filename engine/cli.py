@@ -17,13 +17,13 @@ from engine.formats.checks import LIMITS
 
 
 def _build_scene(args: argparse.Namespace) -> None:
-    from engine.io.scene_build import BuildConfig, build_scene
+    from engine.capture.scene_build import BuildConfig, build_scene
 
     build_scene(Path(args.renders), Path(args.out), BuildConfig(max_points=args.max_points, seed=args.seed))
 
 
 def _capture(args: argparse.Namespace) -> None:
-    from engine.io.capture import CaptureConfig, run_capture
+    from engine.capture.run import CaptureConfig, run_capture
     from engine.train.config import config_from_args
 
     report = run_capture(config_from_args(args, CaptureConfig))
@@ -33,8 +33,8 @@ def _capture(args: argparse.Namespace) -> None:
 
 
 def _info(args: argparse.Namespace) -> None:
+    from engine.capture.scene import load_scene
     from engine.io.extent import describe_extent
-    from engine.io.scene import load_scene
 
     scene = load_scene(args.scene, args.resolution, depth=True)
     cam = scene.cameras[0]
@@ -48,7 +48,7 @@ def _info(args: argparse.Namespace) -> None:
 
 
 def _preview(args: argparse.Namespace) -> None:
-    from engine.io.scene import load_scene
+    from engine.capture.scene import load_scene
     from engine.pictures.preview import write_scene_preview
 
     path = write_scene_preview(load_scene(args.scene, args.resolution, depth=True), Path(args.out), rows=args.rows)
@@ -67,8 +67,8 @@ def _train(args: argparse.Namespace) -> None:
 
 
 def _import_splat(args: argparse.Namespace) -> None:
+    from engine.convert.import_splat import ImportConfig, import_splat
     from engine.train.config import config_from_args
-    from engine.train.imported_run import ImportConfig, import_splat
 
     metrics = import_splat(config_from_args(args, ImportConfig))
     print(f"imported {metrics['gaussians']} Gaussians into {args.out}; test PSNR {metrics['psnr']:.2f} dB against "
@@ -84,7 +84,7 @@ def _clean(args: argparse.Namespace) -> None:
 
 
 def _export(args: argparse.Namespace) -> None:
-    from engine.io.export import ExportConfig, export
+    from engine.convert.export import ExportConfig, export
     from engine.train.config import config_from_args
 
     out = export(config_from_args(args, ExportConfig))
@@ -93,8 +93,8 @@ def _export(args: argparse.Namespace) -> None:
 
 def _segment(args: argparse.Namespace) -> None:
     from engine.formats.layout import RunLayout
+    from engine.segment.run import SegmentConfig, run_segment
     from engine.train.config import config_from_args
-    from engine.train.segments import SegmentConfig, run_segment
     from engine.train.trained_run import load_run
 
     config = config_from_args(args, SegmentConfig)
@@ -280,7 +280,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-points", type=int, default=30_000)
     p.add_argument("--seed", type=int, default=0)
     p.set_defaults(handler=_build_scene)
-    from engine.io.capture import CaptureConfig
+    from engine.capture.run import CaptureConfig
     from engine.train.config import add_config_arguments
 
     p = sub.add_parser("capture", help="photos or a video in, a COLMAP folder out (pycolmap's SfM)")
@@ -312,8 +312,8 @@ def build_parser() -> argparse.ArgumentParser:
         p = sub.add_parser(name, help=text)
         add_config_arguments(p, cls, required=("run",))
         p.set_defaults(handler=handler)
-    from engine.train.imported_run import ImportConfig
-    from engine.train.segments import SegmentConfig
+    from engine.convert.import_splat import ImportConfig
+    from engine.segment.run import SegmentConfig
 
     p = sub.add_parser("segment", help="objects for a run without ground-truth masks: from your masks or a box")
     add_config_arguments(p, SegmentConfig, required=("run",))
@@ -325,7 +325,7 @@ def build_parser() -> argparse.ArgumentParser:
                                      "run, without a removal's relighting and renders")
     add_config_arguments(p, CleanConfig, required=("run",))
     p.set_defaults(handler=_clean)
-    from engine.io.export import ExportConfig
+    from engine.convert.export import ExportConfig
 
     p = sub.add_parser("export", help="a run's scene (trained, removed or completed) as .ply, compressed .ply, "
                                       ".splat or .spz for other splat tools")

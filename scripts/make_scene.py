@@ -5,7 +5,7 @@
 
 Blender renders (Cycles) the views with and without the target object as multi-part EXRs; the engine
 (`python -m engine build-scene`, in its own environment) turns them into the scene folder described
-in engine/io/scene.py. The same arguments give the same scene.
+in engine/capture/scene.py. The same arguments give the same scene.
 """
 
 from __future__ import annotations

@@ -39,8 +39,8 @@ LAYOUT_NAMES = {"point_cloud.ply", "classifier.npz", "removal.json", "holes.json
 
 # the same words for folders that are not ours: torch hub's weights, pycolmap's scratch reconstruction
 NOT_OURS = {("engine/base/weight_files.py", "checkpoints"), ("benchmarks/metrics_agreement.py", "checkpoints"),
-            ("engine/complete/recolmap.py", "sparse"), ("engine/io/capture.py", "sparse"),
-            ("engine/io/capture.py", "images")}
+            ("engine/complete/recolmap.py", "sparse"), ("engine/capture/run.py", "sparse"),
+            ("engine/capture/run.py", "images")}
 
 
 def test_only_the_layout_module_spells_run_and_scene_file_names():

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from engine.base.errors import InputError
-from engine.io.photos import photo_files, prepare_photos, prepare_video
+from engine.capture.photos import photo_files, prepare_photos, prepare_video
 from tests.test_user_path import SIDE, exif_jpeg
 
 

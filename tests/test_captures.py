@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from engine.base.errors import InputError
-from engine.io.scene import load_scene
+from engine.capture.scene import load_scene
 
 W, H, F, CX, CY = 96, 72, 80.0, 48.0, 36.0
 

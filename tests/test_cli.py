@@ -28,14 +28,14 @@ def test_bad_options_end_in_one_line_and_status_2(tmp_path: Path, args: list[str
 def test_every_setting_of_every_stage_says_what_it_means_in_help():
     """--help shows each config field's comment; a field without one would show a bare default."""
     from engine.complete.run import CompleteConfig
+    from engine.convert.import_splat import ImportConfig
     from engine.edit.holes import HoleConfig
     from engine.edit.removal import RemovalConfig
     from engine.inpaint.run import InpaintConfig
     from engine.metrics.scores import ScoreConfig
     from engine.pictures.turntable import TurntableConfig
+    from engine.segment.run import SegmentConfig
     from engine.train.config import TrainConfig, field_help
-    from engine.train.imported_run import ImportConfig
-    from engine.train.segments import SegmentConfig
 
     configs = (TrainConfig, RemovalConfig, HoleConfig, InpaintConfig, CompleteConfig, SegmentConfig, ImportConfig,
                TurntableConfig, ScoreConfig)

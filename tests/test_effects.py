@@ -316,7 +316,7 @@ def test_surface_depth_is_where_opacity_passes_a_half_not_the_blend_of_everythin
 
 
 def test_the_effect_region_is_what_changed_outside_the_object_noise_and_the_object_left_out():
-    from engine.io.scene_build import effect_region
+    from engine.capture.scene_build import effect_region
 
     rng = np.random.default_rng(0)
     gt = rng.integers(60, 200, (40, 50, 3)).astype(np.uint8)

@@ -144,7 +144,7 @@ def test_a_level_support_is_found_where_noisy_depth_leaves_no_plane_a_majority()
 
 
 def test_no_plane_is_claimed_among_scattered_surfaces():
-    from engine.io.planes import fit_plane
+    from engine.geometry.planes import fit_plane
 
     rng = np.random.default_rng(1)
     assert fit_plane(rng.uniform(-1, 1, (2000, 3)), tol=0.01) is None

@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 from engine.base.errors import InputError
+from engine.capture.scene import load_scene
 from engine.complete.recolmap import rerun_colmap, umeyama
 from engine.formats.cameras import Camera
 from engine.io.colmap_model import ColmapModel, write_model
 from engine.io.image_io import write_png
-from engine.io.scene import load_scene
 
 # (origin, edge 1, edge 2) of two textured rectangles: a wall at x = -2 and the ground z = 0
 PLANES = [(np.array([-2.0, -2, 0]), np.array([0, 4.0, 0]), np.array([0, 0, 2.5])),

@@ -125,8 +125,8 @@ def test_a_splat_trained_elsewhere_becomes_a_run_that_later_stages_use(tiny_run:
     """A standard .ply without identity fields (another trainer's) plus its COLMAP scene: a run without
     retraining, which loads, removes by box, and reports the splat's fit to the images; a .ply in another
     frame is refused with the reason instead of giving a run that renders nothing like the scene."""
+    from engine.convert.import_splat import ImportConfig, import_splat
     from engine.io.ply_io import save_ply
-    from engine.train.imported_run import ImportConfig, import_splat
 
     trained = load_run(tiny_run)
     plain = {k: v for k, v in trained.gaussians.items() if k != "identity"}

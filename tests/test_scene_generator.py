@@ -12,8 +12,8 @@ import pycolmap
 import pytest
 from conftest import make_scene
 
+from engine.capture.scene import load_scene
 from engine.formats.cameras import backproject, pixel_grid, project
-from engine.io.scene import load_scene
 
 FOLDERS = ["images", "gt", "masks", "depth", "gt_depth", "holes"]
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from engine.base.errors import InputError
-from engine.io.scene import load_scene
+from engine.capture.scene import load_scene
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -112,7 +112,7 @@ def test_cli_reports_one_line_and_status_2(scene_copy: Path):
 
 def test_png_writes_after_loading_a_colmap_model(living_scene: Path, tmp_path: Path):
     """pycolmap 4.2.1 aborts the next zlib compression unless zlib loaded first: guard the import order."""
-    code = (f"from engine.io.scene import load_scene; load_scene({str(living_scene)!r}); "
+    code = (f"from engine.capture.scene import load_scene; load_scene({str(living_scene)!r}); "
             f"import numpy as np, cv2; assert cv2.imwrite({str(tmp_path / 'x.png')!r}, np.zeros((4, 4), np.uint8)); "
             f"np.savez_compressed({str(tmp_path / 'y.npz')!r}, a=np.zeros(3))")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO)

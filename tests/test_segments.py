@@ -1,4 +1,4 @@
-"""Objects for a run without ground-truth masks (engine.train.segments): from a user's masks whose ids do
+"""Objects for a run without ground-truth masks (engine.segment.run): from a user's masks whose ids do
 not agree across views, or from a 3D box; afterwards `remove --object` works as on a generated scene."""
 
 from __future__ import annotations
@@ -12,11 +12,12 @@ import pytest
 
 from engine.base.errors import InputError
 from engine.edit.removal import RemovalConfig, run_removal
+from engine.geometry.planes import support_planes
+from engine.geometry.scene_geometry import components, voxel_components
 from engine.io.image_io import read_png, write_png
-from engine.io.planes import support_planes
 from engine.metrics.segment_scores import association_accuracy, iou, perturb_masks, proposal_scores
-from engine.train.proposals import components, split_pieces, voxel_components
-from engine.train.segments import SegmentConfig, lift_masks, run_segment
+from engine.segment.proposals import split_pieces
+from engine.segment.run import SegmentConfig, lift_masks, run_segment
 from engine.train.trained_run import load_run, load_run_scene
 from tests.conftest import setup_weight
 

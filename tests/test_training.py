@@ -15,8 +15,8 @@ import pytest
 import torch
 
 from engine.base.errors import InputError
+from engine.capture.scene import load_scene
 from engine.io.ply_io import load_ply
-from engine.io.scene import load_scene
 from engine.metrics.image_metrics import IoUCounter, psnr
 from engine.render.rasterize import CameraTensors, render
 from engine.train.config import TrainConfig
@@ -293,9 +293,9 @@ def test_a_run_records_its_scene_and_itself_as_absolute_paths(tmp_path: Path, mo
 
 def test_a_scene_without_masks_scores_identity_as_none_not_nan(tmp_path: Path):
     """A capture has no masks: metrics.json gets null (JSON has no NaN), not NaN."""
+    from engine.capture.scene import Scene
     from engine.formats.cameras import Camera
     from engine.io.gaussians import init_from_points, new_classifier
-    from engine.io.scene import Scene
     from engine.metrics.evaluate import evaluate_views
 
     camera = Camera("0000.png", 16, 12, 20.0, 20.0, 8.0, 6.0, np.eye(3), np.array([0.0, 0.0, 4.0]))
@@ -310,9 +310,9 @@ def test_a_scene_without_masks_scores_identity_as_none_not_nan(tmp_path: Path):
 def test_metrics_name_the_view_that_falls_far_below_the_others(tmp_path: Path):
     """A floater spoils one view, not the mean's neighbours: metrics.json lists every test view's PSNR and
     how far the worst lies below the mean."""
+    from engine.capture.scene import Scene
     from engine.formats.cameras import Camera
     from engine.io.gaussians import init_from_points, new_classifier
-    from engine.io.scene import Scene
     from engine.metrics.evaluate import evaluate_views
 
     cameras = [Camera(f"000{i}.png", 16, 12, 20.0, 20.0, 8.0, 6.0, np.eye(3), np.array([0.0, 0.0, 4.0]))

@@ -61,8 +61,8 @@ def test_sky_that_a_training_view_saw_as_a_wall_is_unseen():
 def test_the_seen_only_gap_leaves_out_what_no_training_view_saw(tmp_path):
     """Three views of one splat: the third's truth differs in a corner its unseen mask covers. Over all pixels
     it lies far below the others; over the seen ones it is the first view again."""
+    from engine.capture.scene import Scene
     from engine.io.gaussians import init_from_points, new_classifier
-    from engine.io.scene import Scene
     from engine.metrics.evaluate import evaluate_views
     from engine.render.rasterize import CameraTensors, render
 

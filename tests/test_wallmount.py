@@ -34,7 +34,7 @@ def test_a_wall_mounted_object_is_found_removed_and_its_hole_is_behind_it(wall_r
     from engine.edit.holes import HoleConfig, run_holes
     from engine.edit.removal import RemovalConfig, run_removal
     from engine.metrics.segment_scores import proposal_scores
-    from engine.train.segments import SegmentConfig, run_segment
+    from engine.segment.run import SegmentConfig, run_segment
     from engine.train.trained_run import load_run, load_run_scene
 
     truth = load_run_scene(wall_run)

@@ -26,6 +26,7 @@ import numpy as np
 import torch
 
 from engine.base.errors import InputError
+from engine.capture.scene import Scene
 from engine.formats.cameras import backproject, pixel_grid
 from engine.formats.layout import HolesLayout, InpaintedLayout, RemovedLayout
 from engine.inpaint.run import inpainted_dilation
@@ -33,7 +34,6 @@ from engine.io.gaussians import PARAM_NAMES, Gaussians, init_from_points
 from engine.io.image_io import exr_name, read_depth, read_png
 from engine.io.masks import read_masks
 from engine.io.ply_io import load_ply
-from engine.io.scene import Scene
 from engine.metrics.scores import hole_crop
 from engine.train.config import TrainConfig
 from engine.train.trained_run import TrainedRun

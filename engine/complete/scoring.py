@@ -15,10 +15,10 @@ import cv2
 import numpy as np
 
 from engine.base.device import pick_device
+from engine.capture.scene import Scene
 from engine.formats.layout import RemovedLayout
 from engine.io.image_io import read_png, write_png
 from engine.io.masks import dilate
-from engine.io.scene import Scene
 from engine.metrics.image_metrics import psnr_from_mse
 from engine.metrics.scores import Scorer, Scores, pixel_scores
 from engine.render.render_views import render_pictures

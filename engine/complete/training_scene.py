@@ -15,9 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
+from engine.capture.scene import Scene
 from engine.formats.layout import InpaintedLayout, SceneLayout
 from engine.io.image_io import read_png, write_png
-from engine.io.scene import Scene
 
 
 def write_training_scene(scene: Scene, inpainted: InpaintedLayout, target_id: int | None, out: SceneLayout,

@@ -24,8 +24,8 @@ from engine.formats.colmap_files import find_model_dir
 from engine.formats.layout import RunLayout
 from engine.formats.splat_files import read_splat_file
 from engine.formats.splat_ply import write_vertices
+from engine.geometry.scene_geometry import camera_frame
 from engine.io.colmap_model import read_model
-from engine.train.proposals import camera_frame
 
 
 @dataclass

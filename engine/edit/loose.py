@@ -2,10 +2,10 @@
 edge, the back of a subject where it met the wall, floaters the training hung in front of it) and that no longer
 joins anything. After removal they float in the hole, blurred grey blobs in every view.
 
-A piece of the remaining Gaussians (connected on a voxel grid, engine.train.proposals.voxel_components) is loose
+A piece of the remaining Gaussians (connected on a voxel grid, engine.segment.proposals.voxel_components) is loose
 when every one of its Gaussians lies within `reach` of the object's core: the floor, the wall or the table the
 object stood on runs on past that reach and stays, as does anything connected to them. Only Gaussians off every
-support plane go (`free`, engine.train.proposals.find_supports): on a tiny run the wall behind a plaque came
+support plane go (`free`, engine.segment.proposals.find_supports): on a tiny run the wall behind a plaque came
 apart into fragments once the plaque went, and taking them cost 0.6 dB. Gaussians of other objects the scene
 knows stay whatever their piece.
 """
@@ -16,7 +16,7 @@ import numpy as np
 import torch
 
 from engine.base.knn import knn
-from engine.train.proposals import spacing, voxel_components
+from engine.geometry.scene_geometry import spacing, voxel_components
 
 REACH = 0.25  # x the core's diagonal: how far from the object a loose piece may lie (and the context twice that)
 

@@ -54,6 +54,7 @@ from engine.edit.support_plane import Footprint, object_core, object_support
 from engine.edit.underside import Underside, find_underside, paint
 from engine.formats.cameras import mean_up
 from engine.formats.layout import EffectsLayout, RemovedLayout
+from engine.geometry.scene_geometry import ProposalConfig, camera_frame, find_supports
 from engine.io.extent import inside_box
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import exr_name, write_depth, write_png
@@ -63,7 +64,6 @@ from engine.io.visibility import inside_visual_hull
 from engine.metrics.image_metrics import psnr
 from engine.pictures.preview import label, overlay
 from engine.render.render_views import render_pictures
-from engine.train.proposals import ProposalConfig, camera_frame, find_supports
 from engine.train.trained_run import TrainedRun, load_run
 
 

@@ -10,7 +10,7 @@ there; a warp from the plane then finds it hidden by the object in every view.
 
 Objects on a plane (a table, a slab, mats) are the scenes this toolkit generates and the paper uses; with
 no clear plane around the object, nothing changes. The level planes (floor, table top) that the same
-cameras' up vector picks out also serve `segment --auto` (engine.train.proposals), which splits what rests
+cameras' up vector picks out also serve `segment --auto` (engine.segment.proposals), which splits what rests
 on them into objects.
 """
 
@@ -24,9 +24,9 @@ import torch
 from engine.formats.cameras import Camera, backproject, pixel_grid
 from engine.formats.checks import read_json
 from engine.formats.layout import RemovedLayout
+from engine.geometry.planes import fit_plane, level_normal, support_planes
 from engine.io.gaussians import Gaussians
 from engine.io.masks import dilate
-from engine.io.planes import fit_plane, level_normal, support_planes
 
 RING_PX = (3, 9)  # the band around the object's region whose surfaces may be its support (its edge is blurred)
 HORIZONTAL_SHARE = 0.1  # a level plane needs fewer: cameras' up rules out walls and slanted clutter

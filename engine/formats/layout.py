@@ -153,7 +153,7 @@ class RendersLayout(_Folder):
 
 @dataclass(frozen=True)
 class SegmentsLayout(Views):
-    """`segment`'s output: objects found after training (engine.train.segments), which the run then uses in
+    """`segment`'s output: objects found after training (engine.segment.run), which the run then uses in
     place of its scene's own masks and objects."""
 
     @property
@@ -294,7 +294,7 @@ class RunLayout(_Folder):
 
     @property
     def exports(self) -> Path:
-        """`export`'s files for other splat tools, by default (engine.io.export)."""
+        """`export`'s files for other splat tools, by default (engine.convert.export)."""
         return self.root / "exports"
 
 

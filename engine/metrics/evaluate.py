@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import torch
 
+from engine.capture.scene import Scene
 from engine.io.gaussians import Gaussians
-from engine.io.scene import Scene
 from engine.metrics.image_metrics import IoUCounter, psnr, ssim
 from engine.render.rasterize import CameraTensors, render
 

@@ -1,4 +1,4 @@
-"""How well objects found without ground truth (engine.train.segments) match a generated scene's exact
+"""How well objects found without ground truth (engine.segment.run) match a generated scene's exact
 instance masks, and the user-mask case it must survive: ids that disagree across views, segments split or
 merged. Used by the tests and benchmarks/segments.py.
 """

@@ -7,8 +7,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from engine.capture.scene import Scene
 from engine.io.image_io import write_png
-from engine.io.scene import Scene
 
 PALETTE = np.array([[0, 0, 0]] + [[(37 * i) % 256, (97 * i + 80) % 256, (173 * i + 40) % 256]
                                   for i in range(1, 256)], dtype=np.uint8)

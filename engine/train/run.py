@@ -22,9 +22,9 @@ from engine.base.device import pick_device
 from engine.base.errors import Cancelled, InputError
 from engine.base.progress import Progress, emit
 from engine.base.versions import gpu_name, versions
+from engine.capture.scene import load_scene
 from engine.formats.layout import RunLayout
 from engine.io.ply_io import save_classifier, save_ply
-from engine.io.scene import load_scene
 from engine.metrics.evaluate import evaluate_views
 from engine.train.config import TrainConfig
 from engine.train.trainer import Trainer

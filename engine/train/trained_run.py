@@ -14,14 +14,14 @@ import numpy as np
 import torch
 
 from engine.base.errors import InputError
+from engine.capture.scene import Scene, SceneObject, load_scene
 from engine.formats.checks import read_json
 from engine.formats.layout import RunLayout
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import read_png
 from engine.io.ply_io import load_classifier, load_ply
-from engine.io.scene import Scene, SceneObject, load_scene
 from engine.train.config import TrainConfig
-from engine.train.segments import identity_of, read_segment_objects
+from engine.train.segment_objects import identity_of, read_segment_objects
 
 
 @dataclass
@@ -65,7 +65,7 @@ def load_run_scene(root: Path | str, scene: Path | str | None = None) -> Scene:
 
 
 def _segments(layout: RunLayout) -> list[SceneObject] | None:
-    """The objects `segment` found for this run (engine.train.segments), if it ran."""
+    """The objects `segment` found for this run (engine.segment.run), if it ran."""
     return read_segment_objects(layout) if layout.segments.objects_json.is_file() else None
 
 

@@ -18,8 +18,8 @@ import torch
 from gsplat.strategy import DefaultStrategy
 
 from engine.base.errors import InputError
+from engine.capture.scene import Scene
 from engine.io.gaussians import PARAM_NAMES, Gaussians, init_from_points, new_classifier
-from engine.io.scene import Scene
 from engine.metrics.image_metrics import psnr_from_mse
 from engine.render.rasterize import CameraTensors, render
 from engine.train.adam_step import AdamState, adam_step

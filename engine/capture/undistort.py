@@ -1,7 +1,7 @@
 """Captures with lens distortion: COLMAP's SIMPLE_RADIAL, RADIAL, OPENCV and FULL_OPENCV cameras (what
 COLMAP, pycolmap, RealityScan and most capture apps write) undistorted to PINHOLE with pycolmap.
 
-The undistorted scene is written once into the scene cache (engine.io.scene_cache, never into the user's
+The undistorted scene is written once into the scene cache (engine.capture.scene_cache, never into the user's
 folder) and reused by every later stage, with the folders that line up with the images (masks/, holes/,
 depth, a generator's gt/) resampled onto the same undistorted cameras. Fisheye
 models are refused with a clear message: undistorting them to a pinhole loses most of their field of view.
@@ -18,11 +18,11 @@ import cv2
 import numpy as np
 
 from engine.base.errors import InputError
+from engine.capture.scene_cache import cached_scene
 from engine.formats import colmap_files
 from engine.formats.colmap_files import find_model_dir
 from engine.formats.layout import SceneLayout
 from engine.io.colmap_model import SUPPORTED_MODELS
-from engine.io.scene_cache import cached_scene
 
 UNDISTORTED_MODELS = ("SIMPLE_RADIAL", "RADIAL", "OPENCV", "FULL_OPENCV")
 

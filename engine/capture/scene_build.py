@@ -2,7 +2,7 @@
 
 scripts/make_scene.py (Blender's Python) renders multi-part EXRs (linear colour, z-depth, object index)
 and writes cameras.json; this module (the engine's Python, which has OpenImageIO and pycolmap) writes
-images/, gt/, masks/, depth/, gt_depth/, holes/, effects/, sparse/0/ and split.json. See engine.io.scene for the
+images/, gt/, masks/, depth/, gt_depth/, holes/, effects/, sparse/0/ and split.json. See engine.capture.scene for the
 layout.
 """
 

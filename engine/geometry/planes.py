@@ -1,5 +1,5 @@
 """Planes among 3D points: level ones (floor, table top), given the scene's up direction, which the hole masks'
-support (engine.edit.support_plane) and the object proposals (engine.train.proposals) both stand on; and
+support (engine.edit.support_plane) and the object proposals (engine.segment.proposals) both stand on; and
 those of any other orientation (a wall, a shelf's back), which objects hang on or are mounted to."""
 
 from __future__ import annotations

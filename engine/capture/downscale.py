@@ -1,5 +1,5 @@
 """Scenes at a lower resolution, as 3DGS's `-r 2|4|8`: a capture's 12-megapixel photos train at a quarter
-of their size. The downscaled scene is a whole scene folder in the scene cache (engine.io.scene_cache):
+of their size. The downscaled scene is a whole scene folder in the scene cache (engine.capture.scene_cache):
 images and ground truth resized by area, masks, holes and depth by nearest neighbour (ids and z-depth must
 not blend), and the COLMAP model's intrinsics scaled with the image size, so every later stage that copies
 the scene (completion's training scene) stays consistent."""
@@ -14,12 +14,12 @@ import cv2
 import numpy as np
 
 from engine.base.errors import InputError
+from engine.capture.scene_cache import cached_scene
 from engine.formats.cameras import Camera
 from engine.formats.colmap_files import find_model_dir
 from engine.formats.layout import SceneLayout
 from engine.io.colmap_model import read_model, write_model
 from engine.io.image_io import exr_name, read_depth, read_png, write_depth, write_png
-from engine.io.scene_cache import cached_scene
 
 FACTORS = (1, 2, 4, 8)
 

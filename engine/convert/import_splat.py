@@ -19,11 +19,11 @@ from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import emit
+from engine.capture.scene import load_scene
 from engine.formats.layout import RunLayout
 from engine.formats.splat_ply import SH_REST_COUNTS
 from engine.io.gaussians import new_classifier
 from engine.io.ply_io import load_ply, save_classifier, save_ply
-from engine.io.scene import load_scene
 from engine.metrics.evaluate import evaluate_views
 from engine.train.config import TrainConfig
 

@@ -11,9 +11,9 @@ background), objects.json (id, name, 3D box, Gaussians) and per-view instance-id
   that most of its Gaussians already belong to (at least `join`), else it starts a new one; each Gaussian
   finally takes the object it was seen in most often (id 0, unlabelled, counts as background). Training-free:
   seconds.
-- automatic (`--auto`): proposals from the geometry (engine.train.proposals): what rests on or hangs from the
+- automatic (`--auto`): proposals from the geometry (engine.segment.proposals): what rests on or hangs from the
   capture's support planes, split by 3D connectivity; then the subject, the object the capture is about, from
-  salient-object votes across views (engine.train.saliency_votes), named object_1.
+  salient-object votes across views (engine.segment.saliency_votes), named object_1.
 - from a selection (`--box`, `--indices` for the proxy points a user selected in Blender, or `--point U V
   --view IMAGE`, a click in one photo): those Gaussians become one more object beside those found so far.
 
@@ -38,29 +38,29 @@ from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import emit
+from engine.capture.scene import Scene, SceneObject
 from engine.formats.cameras import Camera, backproject, project, sample_nearest
-from engine.formats.checks import read_json
 from engine.formats.layout import RunLayout, SegmentsLayout
 from engine.formats.splat_ply import IDENTITY_DIM, SH_C0
+from engine.geometry.scene_geometry import Frame, ProposalConfig, Supports, camera_frame, find_supports
 from engine.io.extent import bounding_box, inside_box
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import read_png, write_png
-from engine.io.scene import Scene, SceneObject
 from engine.pictures.preview import colorize_ids, label
 from engine.render.rasterize import CameraTensors, render
 from engine.render.render_views import render_depths
-from engine.train.proposals import Frame, ProposalConfig, Supports, camera_frame, find_supports, propose
-from engine.train.saliency_votes import VoteConfig, salient_votes, subject, voting_views
-from engine.train.salient import SalientNet
+from engine.segment.proposals import propose
+from engine.segment.saliency_votes import VoteConfig, salient_votes, subject, voting_views
+from engine.segment.salient import SalientNet
+from engine.train.segment_objects import identity_of, read_segment_objects
 
 MAX_OBJECTS = IDENTITY_DIM - 1
-SHARPNESS = 20.0  # classifier logit for a Gaussian's own object: softmax ~1, so removal's threshold holds
 
 
 @dataclass
 class SegmentConfig(VoteConfig, ProposalConfig):
     run: str = ""  # the training run
-    auto: bool = False  # proposals from the geometry alone (engine.train.proposals)
+    auto: bool = False  # proposals from the geometry alone (engine.segment.proposals)
     from_masks: str = ""  # a folder of per-view instance-id PNGs named like the images (0 = unlabelled)
     box: list[float] = field(default_factory=list)  # x0 y0 z0 x1 y1 z1: the Gaussians inside become an object
     indices: str = ""  # a .npy or text file of Gaussian indices (Blender's selected proxy points): one object
@@ -143,17 +143,6 @@ def renumber(ids: np.ndarray, min_gaussians: int, first: int | None = None) -> n
     table = np.zeros(len(sizes), np.int64)
     table[order] = np.arange(1, len(order) + 1)
     return table[ids]
-
-
-def identity_of(ids: np.ndarray, count: int) -> tuple[torch.Tensor, torch.nn.Linear]:
-    """Identities one-hot over the objects and the classifier that reads them (engine.train.trained_run)."""
-    identity = torch.zeros(len(ids), IDENTITY_DIM)
-    identity[torch.arange(len(ids)), torch.as_tensor(ids)] = 1.0
-    classifier = torch.nn.Linear(IDENTITY_DIM, count + 1)
-    with torch.no_grad():
-        classifier.weight.copy_(SHARPNESS * torch.eye(count + 1, IDENTITY_DIM))
-        classifier.bias.zero_()
-    return identity, classifier
 
 
 def instance_masks(gaussians: Gaussians, ids: np.ndarray, cameras: list[Camera], sh_degree: int,
@@ -260,7 +249,7 @@ def _from_masks(run, means: np.ndarray, config: SegmentConfig, device: torch.dev
 
 def _salient_subject(run, ids: np.ndarray, opacity: np.ndarray, frame: Frame, supports: Supports,
                      config: SegmentConfig, stats: dict, device: torch.device) -> tuple[np.ndarray, int | None, dict]:
-    """The proposals with the subject (engine.train.saliency_votes) as an object of its own, its id, and why."""
+    """The proposals with the subject (engine.segment.saliency_votes) as an object of its own, its id, and why."""
     scene: Scene = run.scene
     views = voting_views(scene.train)
     cameras = [scene.cameras[i] for i in views]
@@ -322,7 +311,7 @@ def _add_selection(run, means: np.ndarray, config: SegmentConfig, device: torch.
 
 def _clicked(run, means: np.ndarray, config: SegmentConfig, device: torch.device) -> np.ndarray:
     """The object under a click: the rendered surface at pixel (U, V) of --view lifted to 3D, and the proposal
-    (engine.train.proposals: a piece off every support plane, its faint Gaussians joined) nearest to it. A click
+    (engine.segment.proposals: a piece off every support plane, its faint Gaussians joined) nearest to it. A click
     on the floor or a wall gives the object nearest to where it landed."""
     scene: Scene = run.scene
     names = [c.name for c in scene.cameras]
@@ -362,14 +351,3 @@ def _read_indices(path: Path, count: int) -> np.ndarray:
     chosen = np.zeros(count, bool)
     chosen[values] = True
     return chosen
-
-
-def read_segment_objects(layout) -> list[SceneObject]:
-    """The objects of RUN/segments/objects.json (engine.formats.layout.RunLayout `layout`)."""
-    path = layout.segments.objects_json
-    try:
-        return [SceneObject(int(e["id"]), str(e["name"]), bool(e.get("target", False)))
-                for e in read_json(path)]
-    except (OSError, ValueError, TypeError, KeyError, OverflowError) as exc:
-        raise InputError(f"cannot read {path} ({exc}); delete {layout.segments.root} and run "
-                         "`python -m engine segment` again") from exc

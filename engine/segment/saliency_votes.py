@@ -1,6 +1,6 @@
 """The object a capture is about, from salient-object evidence voted across views (`segment --auto`).
 
-Each training view's photo gets a salient-object map (engine.train.salient); every Gaussian on the surface a
+Each training view's photo gets a salient-object map (engine.segment.salient); every Gaussian on the surface a
 view shows (its centre within `rel_tol` of the view's rendered depth) takes that map's value under it. Its vote
 is the mean over the views that see it: a subject is salient from nearly every side, while a wallpaper rose
 taken for it in a few views, or the background behind the subject, is salient in few of the views that see it,
@@ -24,7 +24,7 @@ import torch
 from engine.base.knn import knn
 from engine.base.progress import Progress
 from engine.formats.cameras import Camera, project, sample_nearest
-from engine.train.proposals import voxel_components
+from engine.geometry.scene_geometry import voxel_components
 
 MAX_VIEWS = 24  # views voting: evenly spread over the training views (u2netp: about 0.1-0.5 s a view on a CPU)
 PEDESTAL_FOOTPRINT = 3.0  # a pedestal's footprint is at least this many times its subject's
@@ -74,7 +74,7 @@ def voting_views(train: list[int]) -> list[int]:
 def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np.ndarray, free: np.ndarray,
             near: np.ndarray, up: np.ndarray, voxel: float, min_vote: float) -> tuple[np.ndarray, dict]:
     """(N,) bool: the Gaussians of the object the capture is about, and what was found. The salient Gaussians
-    the geometry leaves free (off every support plane, engine.train.proposals.find_supports), their largest
+    the geometry leaves free (off every support plane, engine.segment.proposals.find_supports), their largest
     connected piece less a pedestal it stands on (`pedestal_cut`), then grown (`GROW` passes of `STEP` voxels)
     over the salient Gaussians touching it, faint ones and those within a plane's band too: a plaque mounted flat
     on a wall lies in the wall's band. A picture on the same wall votes as salient as the plaque; the wall between

@@ -26,14 +26,14 @@ from pathlib import Path
 import numpy as np
 
 from engine.base.errors import InputError
+from engine.capture.downscale import downscaled_scene
+from engine.capture.undistort import pinhole_scene
 from engine.formats.cameras import Camera
 from engine.formats.checks import read_json
 from engine.formats.colmap_files import find_model_dir
 from engine.formats.layout import SceneLayout
 from engine.io.colmap_model import read_model
-from engine.io.downscale import downscaled_scene
 from engine.io.image_io import exr_name, read_depth, read_png
-from engine.io.undistort import pinhole_scene
 
 LLFF_HOLD = 8  # test split for plain COLMAP folders, as 3DGS does with --eval
 
@@ -84,11 +84,11 @@ class Scene:
 
 def load_scene(root: Path | str, resolution: int = 1, depth: bool = False) -> Scene:
     """Load a scene folder; see the module docstring for the layout. `resolution` > 1 loads it at
-    1/resolution of its size (engine.io.downscale), as 3DGS's -r; `depth` reads depth/ and gt_depth/ too."""
+    1/resolution of its size (engine.capture.downscale), as 3DGS's -r; `depth` reads depth/ and gt_depth/ too."""
     root = Path(root)
     if not root.is_dir():
         raise InputError(f"scene folder {root} does not exist: pass a folder made by make_scene.py or COLMAP")
-    root = pinhole_scene(root)  # a capture with lens distortion: its undistorted copy (engine.io.undistort)
+    root = pinhole_scene(root)  # a capture with lens distortion: its undistorted copy (engine.capture.undistort)
     root = downscaled_scene(root, resolution)
     layout = SceneLayout(root)
     model = read_model(find_model_dir(root))

@@ -4,7 +4,7 @@ later stage takes as a scene.
 pycolmap's own SfM, with the defaults COLMAP and capture apps use: SIFT features, one SIMPLE_RADIAL camera,
 exhaustive matching for a photo set and sequential matching for a video's frames (neighbours in time overlap;
 exhaustive over hundreds of frames is quadratic), incremental mapping, the largest model kept, and the images
-undistorted to PINHOLE as 3DGS's convert.py does. engine.io.photos makes the images upright and small enough
+undistorted to PINHOLE as 3DGS's convert.py does. engine.capture.photos makes the images upright and small enough
 first.
 
 Resumable: OUT/.sfm/ holds the feature database and which phases finished; running the same command on the
@@ -29,8 +29,8 @@ import cv2  # noqa: F401
 
 from engine.base.errors import Cancelled, InputError
 from engine.base.progress import emit, say
+from engine.capture.photos import JPEG_QUALITY, photo_files, prepare_photos, prepare_video
 from engine.formats.layout import CaptureLayout
-from engine.io.photos import JPEG_QUALITY, photo_files, prepare_photos, prepare_video
 
 
 @dataclass

@@ -18,83 +18,19 @@ of R, so the same defaults hold for a generated scene in metres and an SfM frame
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 import torch
 
 from engine.base.knn import knn
-from engine.formats.cameras import Camera, mean_up
-from engine.io.planes import support_planes, tilted_planes
-
-NEIGHBOURS = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
-                       if (i, j, k) > (0, 0, 0)])  # half of the 26-neighbourhood: each pair of voxels once
-
-
-@dataclass
-class ProposalConfig:
-    solid: float = 0.2  # opacity a Gaussian needs to shape the geometry
-    plane_tol: float = 0.02  # a Gaussian within this x R of a support plane belongs to it
-    plane_share: float = 0.05  # a plane holds at least this share of the solid Gaussians in the orbit
-    plane_radius: float = 0.15  # ... spread at least this x R around its centre (median distance)
-    voxel: float = 0.02  # connectivity voxel, x R (at least the Gaussians' median spacing)
-    stack_gap: float = 2.0  # a piece resting this many voxels above another's footprint is part of it
-    max_width: float = 0.8  # a piece wider than this x R is scenery, not an object
-    orbit: float = 1.0  # objects lie within this x R of the look-at point, horizontally
-    peel: int = 2  # a piece wider than max_width is split again this often, the planes' band wider each time
-
-
-@dataclass
-class Frame:
-    """Where a capture's cameras look, how far they are and which way is up."""
-
-    center: np.ndarray
-    radius: float
-    up: np.ndarray
-
-
-def camera_frame(cameras: list[Camera]) -> Frame:
-    """The point nearest all optical axes (least squares), the median camera distance to it, the mean up."""
-    centres = np.stack([c.center for c in cameras])
-    axes = np.stack([c.R[2] for c in cameras])  # viewing directions in the world
-    projector = np.eye(3)[None] - axes[:, :, None] * axes[:, None, :]
-    center = np.linalg.lstsq(projector.sum(0), np.einsum("kij,kj->i", projector, centres), rcond=None)[0]
-    up = mean_up(np.stack([c.R for c in cameras]))
-    return Frame(center, float(np.median(np.linalg.norm(centres - center, axis=1))),
-                 np.array([0.0, 0.0, 1.0]) if up is None else up)
-
-
-def components(count: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Connected components of `count` nodes joined by edges (a, b): the smallest node of each, per node
-    (min-label hooking with pointer jumping: a few dozen vectorised passes, no graph library)."""
-    label = np.arange(count)
-    while True:
-        new = label.copy()
-        low = np.minimum(label[a], label[b])
-        np.minimum.at(new, label[a], low)
-        np.minimum.at(new, label[b], low)
-        while not np.array_equal(new[new], new):
-            new = new[new]
-        if np.array_equal(new, label):
-            return label
-        label = new
-
-
-def voxel_components(points: np.ndarray, size: float) -> tuple[np.ndarray, np.ndarray]:
-    """Per point, its occupied voxel's index; per voxel, its component (neighbouring voxels connect)."""
-    cells = np.floor(points / size).astype(np.int64)
-    keys, voxel = np.unique(cells, axis=0, return_inverse=True)
-    code = _codes(keys)
-    order = np.argsort(code)
-    a, b = [], []
-    for offset in NEIGHBOURS:
-        other = _codes(keys + offset)
-        at = np.clip(np.searchsorted(code[order], other), 0, len(code) - 1)
-        hit = code[order][at] == other
-        a.append(np.flatnonzero(hit))
-        b.append(order[at[hit]])
-    label = components(len(keys), np.concatenate(a), np.concatenate(b))
-    return voxel.ravel(), label
+from engine.geometry.scene_geometry import (
+    Frame,
+    ProposalConfig,
+    Supports,
+    components,
+    plane_heights,
+    spacing,
+    voxel_components,
+)
 
 
 def merge_stacked(points: np.ndarray, voxel: np.ndarray, label: np.ndarray, up: np.ndarray, gap: float
@@ -130,38 +66,6 @@ def merge_stacked(points: np.ndarray, voxel: np.ndarray, label: np.ndarray, up: 
     return joined[label]
 
 
-def _codes(keys: np.ndarray) -> np.ndarray:
-    shifted = keys + (1 << 20)
-    return (shifted[:, 0] << 42) | (shifted[:, 1] << 21) | shifted[:, 2]
-
-
-@dataclass
-class Supports:
-    """What objects stand on or hang from: level planes and tilted ones (walls), and per Gaussian whether it
-    lies within the orbit (`near`) and is free of them (`free`: near, off every plane, above the lowest level
-    one)."""
-
-    planes: list[tuple[np.ndarray, float]]
-    walls: list[tuple[np.ndarray, float]]
-    near: np.ndarray
-    free: np.ndarray
-
-
-def find_supports(means: np.ndarray, opacity: np.ndarray, frame: Frame, config: ProposalConfig) -> Supports:
-    r, tol = frame.radius, config.plane_tol * frame.radius
-    offset = means - frame.center
-    horizontal = np.linalg.norm(offset - np.outer(offset @ frame.up, frame.up), axis=1)
-    near = horizontal <= config.orbit * r
-    solid = near & (opacity >= config.solid)
-    planes = support_planes(means[solid], frame.up, tol, config.plane_share, config.plane_radius * r)
-    on_level = (np.abs(_plane_heights(means, planes)) < tol).any(1)
-    walls = tilted_planes(means[solid & ~on_level], frame.up, tol, config.plane_share, config.plane_radius * r)
-    free = near & ~on_level & (np.abs(_plane_heights(means, walls)) >= tol).all(1)
-    if planes:
-        free &= means @ frame.up > min(-d for _, d in planes) + tol
-    return Supports(planes, walls, near, free)
-
-
 def propose(means: np.ndarray, opacity: np.ndarray, frame: Frame, support: Supports, config: ProposalConfig
             ) -> tuple[np.ndarray, dict]:
     """(N,) proposal id per Gaussian (0 = background, ids in no order) and what was found, given the orbit's
@@ -170,7 +74,7 @@ def propose(means: np.ndarray, opacity: np.ndarray, frame: Frame, support: Suppo
     planes, walls, near = support.planes, support.walls, support.near
     solid = near & (opacity >= config.solid)
     tol = config.plane_tol * r
-    heights = _plane_heights(means, planes)
+    heights = plane_heights(means, planes)
     candidate = support.free
     ids = np.zeros(len(means), np.int64)
     seeds = np.flatnonzero(candidate & solid)
@@ -227,22 +131,6 @@ def _resting(heights: np.ndarray, part: np.ndarray, reach: float) -> np.ndarray:
     low = np.full((part.max() + 1, heights.shape[1]), np.inf)
     np.minimum.at(low, part, heights)
     return ((low >= 0) & (low <= reach)).any(1)
-
-
-def _plane_heights(points: np.ndarray, planes: list[tuple[np.ndarray, float]]) -> np.ndarray:
-    """(N, P) each point's signed height above each plane (normals point up)."""
-    return np.stack([points @ n + d for n, d in planes], axis=1) if planes else np.zeros((len(points), 0))
-
-
-def spacing(points: np.ndarray, sample: int = 2000) -> float:
-    """Median distance from a point to its nearest neighbour (on a sample): a sparse reconstruction (few
-    views, few steps) needs voxels at least this large to hold one object together."""
-    if len(points) < 2:
-        return 0.0
-    rng = np.random.default_rng(0)
-    queries = points[rng.choice(len(points), min(sample, len(points)), replace=False)]
-    distances = knn(torch.as_tensor(queries), torch.as_tensor(points), 2)[0][:, 1]  # [:, 0] is the point itself
-    return float(distances.median())
 
 
 def _component_widths(points: np.ndarray, label: np.ndarray, up: np.ndarray) -> np.ndarray:
