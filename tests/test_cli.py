@@ -35,7 +35,8 @@ def test_every_setting_of_every_stage_says_what_it_means_in_help():
     from engine.metrics.scores import ScoreConfig
     from engine.pictures.turntable import TurntableConfig
     from engine.segment.run import SegmentConfig
-    from engine.train.config import TrainConfig, field_help
+    from engine.base.config_cli import field_help
+    from engine.train.config import TrainConfig
 
     configs = (TrainConfig, RemovalConfig, HoleConfig, InpaintConfig, CompleteConfig, SegmentConfig, ImportConfig,
                TurntableConfig, ScoreConfig)

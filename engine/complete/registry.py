@@ -15,16 +15,12 @@ when they run), so Blender's Python (scripts/benchmark.py) reads the registry to
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar
 
 from engine.base.errors import InputError
-from engine.base.plugins import Needs, load_plugin_files
-
-_REGISTRY: dict[str, type[CompletionMethod]] = {}
+from engine.base.plugins import Needs, Registry
 
 
 @dataclass(frozen=True)
@@ -73,32 +69,20 @@ class CompletionMethod:
         return settings, None
 
 
+METHODS: Registry[CompletionMethod] = Registry("method", "engine.complete.methods")
+
+
 def register(cls: type[CompletionMethod]) -> type[CompletionMethod]:
-    if not cls.name:
-        raise TypeError(f"{cls.__name__} declares no name")
-    _REGISTRY[cls.name] = cls
-    return cls
-
-
-def _discover() -> None:
-    from engine.complete import methods
-
-    for module in pkgutil.iter_modules(methods.__path__):
-        importlib.import_module(f"{methods.__name__}.{module.name}")
-    load_plugin_files()
+    return METHODS.add(cls.name, cls)
 
 
 def methods() -> dict[str, CompletionMethod]:
-    """Every registered method by name, in registration order of their names (sorted)."""
-    _discover()
-    return {name: _REGISTRY[name]() for name in sorted(_REGISTRY)}
+    """Every registered method by name, sorted by name."""
+    return {name: cls() for name, cls in METHODS.classes().items()}
 
 
 def get(name: str) -> CompletionMethod:
-    found = methods()
-    if name not in found:
-        raise InputError(f"unknown method {name!r}; choose from {', '.join(found)}")
-    return found[name]
+    return METHODS.get(name)()
 
 
 def all_options() -> dict[str, Option]:

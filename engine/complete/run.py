@@ -23,6 +23,7 @@ from pathlib import Path
 
 import torch
 
+from engine.base.config_cli import add_option
 from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir, check_new_output
@@ -33,7 +34,6 @@ from engine.complete.scoring import score_oracles, score_removed, score_run
 from engine.complete.training_scene import write_training_scene
 from engine.formats.layout import CompleteLayout, HolesLayout, InpaintedLayout, RemovedLayout, SceneLayout
 from engine.metrics.scores import ScoreConfig, Scorer
-from engine.train.config import add_config_arguments
 from engine.train.run import train
 from engine.train.trained_run import TrainedRun, load_run
 
@@ -78,18 +78,12 @@ class CompletionJob:
         return self.config.steps or max(self.original.config.steps // 10, 100)
 
 
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """The common flags from CompleteConfig, then every registered method's options."""
-    add_config_arguments(parser, CompleteConfig, skip=("options", "method"), required=("run",))
+def add_method_arguments(parser: argparse.ArgumentParser) -> None:
+    """--method and every registered method's options (the common flags come from CompleteConfig)."""
     parser.add_argument("--method", default="init", choices=list(methods()), help="(default: init)")
     for option in all_options().values():
-        flag = "--" + option.name.replace("_", "-")
-        if isinstance(option.default, bool):
-            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=option.default,
-                                help=f"{option.help} (default: {option.default})")
-        else:
-            parser.add_argument(flag, type=type(option.default), default=option.default,
-                                choices=option.choices or None, help=f"{option.help} (default: {option.default})")
+        add_option(parser, option.name, option.default, f"{option.help} (default: {option.default})"
+                   if isinstance(option.default, bool) else option.help, choices=option.choices)
 
 
 def config_from_args(args: argparse.Namespace) -> CompleteConfig:

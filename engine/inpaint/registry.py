@@ -16,26 +16,23 @@ always returned unchanged.
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
 from pathlib import Path
 from typing import ClassVar
 
 import numpy as np
 
 from engine.base.errors import InputError
-from engine.base.plugins import Needs, load_plugin_files
+from engine.base.plugins import Needs, Registry
 from engine.inpaint.coarse import fill_coarse
 from engine.inpaint.depth_range import decode_depth, encode_depth
 
-_REGISTRY: dict[str, type[Inpainter]] = {}
+INPAINTERS: Registry[Inpainter] = Registry("inpainter", "engine.inpaint.inpainters")
 
 
 def register(name: str):
     def add(cls: type[Inpainter]) -> type[Inpainter]:
         cls.name = name
-        _REGISTRY[name] = cls
-        return cls
+        return INPAINTERS.add(name, cls)
 
     return add
 
@@ -94,28 +91,15 @@ class Inpainter:
         return self.inpaint_rgb(grey, mask, prompt)
 
 
-def _discover() -> None:
-    from engine.inpaint import inpainters
-
-    for module in pkgutil.iter_modules(inpainters.__path__):
-        importlib.import_module(f"{inpainters.__name__}.{module.name}")
-    load_plugin_files()
-
-
 def names() -> list[str]:
-    _discover()
-    return sorted(_REGISTRY)
+    return INPAINTERS.names()
 
 
 def classes() -> dict[str, type[Inpainter]]:
     """Every registered inpainter class by name (to describe them without building one)."""
-    _discover()
-    return {name: _REGISTRY[name] for name in sorted(_REGISTRY)}
+    return INPAINTERS.classes()
 
 
 def create(name: str, **options) -> Inpainter:
     """The inpainter registered as `name`, built with `options` (e.g. model=PATH for lama)."""
-    _discover()
-    if name not in _REGISTRY:
-        raise InputError(f"no inpainter {name!r}; available: {', '.join(sorted(_REGISTRY))}")
-    return _REGISTRY[name](**options)
+    return INPAINTERS.get(name)(**options)

@@ -1,18 +1,12 @@
 """Training settings: one dataclass, defaults that work on the GPU (30k steps), and a small CPU preset.
 
-The CLI is generated from the fields (engine.cli), and the resolved config is saved as config.json in
+The CLI is generated from the fields (engine.base.config_cli), and the resolved config is saved as config.json in
 the run folder, so every number can be traced to its settings.
 """
 
 from __future__ import annotations
 
-import argparse
-import ast
 import dataclasses
-import inspect
-import io
-import textwrap
-import tokenize
 from dataclasses import dataclass
 
 from engine.base.errors import InputError
@@ -99,54 +93,3 @@ class TrainConfig:
         retrains for fewer steps than its base run still stops densifying before its end)."""
         scale = steps / self.steps
         return dataclasses.replace(self, steps=steps, **{k: max(1, round(getattr(self, k) * scale)) for k in schedule})
-
-
-def field_help(cls) -> dict[str, str]:
-    """Each field's one-line meaning: the comment on its line, else the comment lines just above it, read from the
-    class's source (its own and its bases'), so the dataclass is the one place a setting is explained."""
-    meanings: dict[str, str] = {}
-    for klass in reversed(cls.__mro__[:-1]):
-        if not dataclasses.is_dataclass(klass):
-            continue
-        lines, start = inspect.getsourcelines(klass)
-        comments = {tok.start[0]: tok.string.lstrip("# ").strip()
-                    for tok in tokenize.generate_tokens(io.StringIO("".join(lines)).readline)
-                    if tok.type == tokenize.COMMENT}
-        code = {i + 1 for i, line in enumerate(lines) if line.strip() and not line.strip().startswith("#")}
-        for node in ast.parse(textwrap.dedent("".join(lines))).body[0].body:
-            if not isinstance(node, ast.AnnAssign) or not isinstance(node.target, ast.Name):
-                continue
-            row = node.lineno
-            text = comments.get(row)
-            if text is None:
-                above = []
-                while row - 1 in comments and row - 1 not in code:
-                    row -= 1
-                    above.insert(0, comments[row])
-                text = " ".join(above)
-            meanings[node.target.id] = text
-    return meanings
-
-
-def add_config_arguments(parser: argparse.ArgumentParser, cls=TrainConfig, skip: tuple[str, ...] = (),
-                         required: tuple[str, ...] = ("scene", "out")) -> None:
-    """One --option per dataclass field, typed from its default (bools as --x/--no-x, lists of numbers), its help
-    the field's comment (field_help) and its default."""
-    meanings = field_help(cls)
-    for f in dataclasses.fields(cls):
-        if f.name in skip:
-            continue
-        flag = f"--{f.name.replace('_', '-')}"
-        meaning = meanings.get(f.name, "").replace("%", "%%")
-        if f.default_factory is not dataclasses.MISSING:
-            parser.add_argument(flag, type=float, nargs="*", default=f.default_factory(), help=meaning)
-        elif isinstance(f.default, bool):
-            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=f.default, help=meaning)
-        else:
-            default = f" (default: {f.default})" if f.default != "" else ""
-            parser.add_argument(flag, type=type(f.default), default=f.default, required=f.name in required,
-                                help=(meaning + default).strip())
-
-
-def config_from_args(args: argparse.Namespace, cls=TrainConfig):
-    return cls(**{f.name: getattr(args, f.name) for f in dataclasses.fields(cls) if hasattr(args, f.name)})
