@@ -24,6 +24,9 @@ BLENDER_ARGS_SEP = --
 BLENDER_ENV =
 endif
 
+# pytest-xdist workers: independent tests run side by side, the shared fixtures made once (tests/conftest.py)
+TEST_WORKERS ?= 2
+
 .PHONY: setup demo test test-fast lint
 setup: .venv/.ready .venv-blender/.ready $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_WEIGHTS)
 
@@ -66,12 +69,12 @@ demo: .venv/.ready $(BLENDER_ENV) $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_W
 	@echo "scores: $(DEMO)/run/complete/Init-fsr[warm]/scores.json, $(DEMO)/run/complete/FT-fsr(3)[l1]/scores.json"
 
 test: .venv/.ready .venv-blender/.ready $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_WEIGHTS) lint
-	$(ENGINE) -m pytest tests
-	$(BPY) -m pytest tests/blender
+	$(ENGINE) -m pytest -n $(TEST_WORKERS) --dist loadgroup --durations=15 tests
+	$(BPY) -m pytest --durations=15 tests/blender
 
 # the quick inner loop: unit tests on tiny inputs (no generated scenes, no training runs), under 2 minutes
 test-fast: .venv/.ready .venv-blender/.ready lint
-	$(ENGINE) -m pytest -m fast tests
+	$(ENGINE) -m pytest -n $(TEST_WORKERS) -m fast tests
 	$(BPY) -m pytest -m fast tests/blender
 
 lint: .venv/.ready

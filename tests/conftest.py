@@ -1,14 +1,19 @@
-"""Shared fixtures: tiny generated scenes, made once per test session through the real generator."""
+"""Shared fixtures: tiny generated scenes, a tiny trained run and its removal, each made once per test run through
+the real generator and stages, and shared by every pytest-xdist worker of that run (a file lock; the first
+worker to ask makes it)."""
 
 from __future__ import annotations
 
 import importlib.util
 import os
+import shutil
 import subprocess
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+from filelock import FileLock
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -21,10 +26,13 @@ TINY = ["--views", "8", "--res", "96", "--samples", "4", "--seed", "3", "--point
 # Two marks (README, developer section): `slow` is end to end (a generated scene, a training run, Blender
 # rendering, an installed extension), `fast` is everything else, on tiny inputs made in the test.
 # A test is slow when it asks for a scene, run or built-extension fixture, or says so with @pytest.mark.slow.
-SLOW_FIXTURES = {"scenes_dir", "living_scene", "any_scene", "tiny_run", "extension_zip"}
+SLOW_FIXTURES = {"scenes_dir", "living_scene", "statue_scene", "any_scene", "tiny_run", "tiny_stages",
+                 "extension_zip"}
 
 
 def pytest_configure(config) -> None:
+    if os.environ.get("PYTEST_XDIST_WORKER"):  # workers share the cores: one thread each, not two fighting each
+        os.environ["OMP_NUM_THREADS"] = os.environ["MKL_NUM_THREADS"] = "1"
     # scores stay hermetic: the weights `make setup` took from registry packages are found only where a test
     # names them (tests/test_metrics.py), so a test that expects "n/a" gets it on a set-up machine too
     os.environ["SPLATFILL_WEIGHTS"] = str(Path(config.rootpath) / ".pytest_cache" / "no-weights")
@@ -70,47 +78,71 @@ def make_scene(out: Path, family: str, extra: list[str] = TINY, env: dict | None
     return proc
 
 
+def made_once(tmp_path_factory, name: str, make: Callable[[Path], object]) -> Path:
+    """`make(folder)` run once per test run, whichever worker asks first; the others wait and read its folder."""
+    base = tmp_path_factory.getbasetemp()
+    root = (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "made-once"
+    root.mkdir(exist_ok=True)
+    out, done = root / name, root / f"{name}.done"
+    with FileLock(str(root / f"{name}.lock")):
+        if not done.exists():
+            shutil.rmtree(out, ignore_errors=True)
+            make(out)
+            done.touch()
+    return out
+
+
 @pytest.fixture(scope="session")
 def scenes_dir(tmp_path_factory) -> Path:
     return tmp_path_factory.mktemp("scenes")
 
 
-@pytest.fixture(scope="session")
-def living_scene(scenes_dir) -> Path:
-    out = scenes_dir / "livingroom"
-    make_scene(out, "livingroom")
-    return out
+def tiny_scene(tmp_path_factory, family: str) -> Path:
+    return made_once(tmp_path_factory, f"scene-{family}", lambda out: make_scene(out, family))
 
 
 @pytest.fixture(scope="session")
-def statue_scene(scenes_dir) -> Path:
-    out = scenes_dir / "statue"
-    if not out.exists():
-        make_scene(out, "statue")
-    return out
+def living_scene(tmp_path_factory) -> Path:
+    return tiny_scene(tmp_path_factory, "livingroom")
+
+
+@pytest.fixture(scope="session")
+def statue_scene(tmp_path_factory) -> Path:
+    return tiny_scene(tmp_path_factory, "statue")
 
 
 @pytest.fixture(scope="session", params=["tabletop", "statue", "livingroom"])
-def any_scene(request, scenes_dir, living_scene, statue_scene) -> Path:
-    if request.param == "livingroom":
-        return living_scene
-    if request.param == "statue":
-        return statue_scene
-    out = scenes_dir / request.param
-    if not out.exists():
-        make_scene(out, request.param)
-    return out
+def any_scene(request, tmp_path_factory) -> Path:
+    return tiny_scene(tmp_path_factory, request.param)
+
+
+def _train_tiny(scene: Path, out: Path) -> None:
+    from engine.train.config import TrainConfig
+    from engine.train.run import train
+
+    # test sizes: 800 steps on the preset's 200-step densification (stretched, it would densify until 600
+    # and quadruple the Gaussians every later test renders)
+    train(TrainConfig(scene=str(scene), out=str(out), preset="tiny", device="cpu", steps=800,
+                      refine_start=50, refine_stop=150))
 
 
 @pytest.fixture(scope="session")
 def tiny_run(living_scene, tmp_path_factory) -> Path:
     """A finished CPU training run (tiny preset) on the tiny livingroom scene, shared by the later stages."""
-    from engine.train.config import TrainConfig
-    from engine.train.run import train
+    return made_once(tmp_path_factory, "run-livingroom", lambda out: _train_tiny(living_scene, out))
 
-    out = tmp_path_factory.mktemp("runs") / "living"
-    # test sizes: 800 steps on the preset's 200-step densification (stretched, it would densify until 600
-    # and quadruple the Gaussians every later test renders)
-    train(TrainConfig(scene=str(living_scene), out=str(out), preset="tiny", device="cpu", steps=800,
-                      refine_start=50, refine_stop=150))
-    return out
+
+def _remove_plush(run: Path, out: Path) -> None:
+    from engine.edit.holes import HoleConfig, run_holes
+    from engine.edit.removal import RemovalConfig, run_removal
+
+    run_removal(RemovalConfig(run=str(run), object="plush", out=str(out / "removed"), device="cpu"))
+    run_holes(HoleConfig(run=str(run), removed=str(out / "removed"), out=str(out / "holes")))
+
+
+@pytest.fixture(scope="session")
+def tiny_stages(tiny_run: Path, tmp_path_factory) -> dict[str, Path]:
+    """The tiny run with its target (the plush) removed and its hole masks; `work` is this worker's own folder."""
+    done = made_once(tmp_path_factory, "removed-plush", lambda out: _remove_plush(tiny_run, out))
+    return {"run": tiny_run, "removed": done / "removed", "holes": done / "holes",
+            "work": tmp_path_factory.mktemp("stages-work")}

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from engine.io.image_io import read_png
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "scripts"))  # benchmark_ray, for the scheduling tests below
 
 

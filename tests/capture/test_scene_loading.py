@@ -14,7 +14,7 @@ import pytest
 from engine.base.errors import InputError
 from engine.capture.scene import load_scene
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parents[2]
 
 
 def _truncate(path: Path, keep: int) -> None:

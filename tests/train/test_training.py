@@ -23,7 +23,7 @@ from engine.train.config import TrainConfig
 from engine.train.run import train
 from engine.train.trainer import Trainer
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parents[2]
 CPU = torch.device("cpu")
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parents[2]
 
 
 @pytest.mark.parametrize("args, says", [
@@ -27,6 +27,7 @@ def test_bad_options_end_in_one_line_and_status_2(tmp_path: Path, args: list[str
 @pytest.mark.fast
 def test_every_setting_of_every_stage_says_what_it_means_in_help():
     """--help shows each config field's comment; a field without one would show a bare default."""
+    from engine.base.config_cli import field_help
     from engine.complete.run import CompleteConfig
     from engine.convert.import_splat import ImportConfig
     from engine.edit.holes import HoleConfig
@@ -35,7 +36,6 @@ def test_every_setting_of_every_stage_says_what_it_means_in_help():
     from engine.metrics.scores import ScoreConfig
     from engine.pictures.turntable import TurntableConfig
     from engine.segment.run import SegmentConfig
-    from engine.base.config_cli import field_help
     from engine.train.config import TrainConfig
 
     configs = (TrainConfig, RemovalConfig, HoleConfig, InpaintConfig, CompleteConfig, SegmentConfig, ImportConfig,

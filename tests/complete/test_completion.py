@@ -1,12 +1,10 @@
-"""The inpaint stage over a tiny trained run: hole filling from removed renders, and the direct baseline."""
+"""Completion: every method over the one loop on the tiny run's removal, resumable, and scored."""
 
 from __future__ import annotations
 
 import os
-import shutil
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -15,143 +13,15 @@ import torch
 from conftest import setup_weight
 
 from engine.base.errors import InputError
-from engine.edit.holes import HoleConfig, run_holes
-from engine.edit.removal import RemovalConfig, run_removal
-from engine.edit.support_plane import removal_plane, stop_at_plane
-from engine.formats.layout import RemovedLayout
-from engine.inpaint.inpainters.nanobanana import PAPER_PROMPTS
-from engine.inpaint.registry import create
-from engine.inpaint.run import InpaintConfig, _workers, run_inpaint
-from engine.io.image_io import exr_name, read_depth, read_png
+from engine.inpaint.run import InpaintConfig, run_inpaint
+from engine.io.image_io import read_png
 from engine.io.masks import dilate
 from engine.train.trained_run import load_run_scene
 
 
-@pytest.fixture(scope="module")
-def stages(tiny_run: Path, tmp_path_factory) -> dict[str, Path]:
-    work = tmp_path_factory.mktemp("inpaint")
-    removed, holes = work / "removed", work / "holes"
-    run_removal(RemovalConfig(run=str(tiny_run), object="plush", out=str(removed), device="cpu"))
-    run_holes(HoleConfig(run=str(tiny_run), removed=str(removed), out=str(holes)))
-    return {"run": tiny_run, "removed": removed, "holes": holes, "work": work}
-
-
-def test_fsr_fills_every_hole_and_passes_views_without_one_through(stages):
-    out = stages["work"] / "fsr"
-    report = run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="fsr", removed=str(stages["removed"]),
-                                       holes=str(stages["holes"]), out=str(out)))
-    scene = load_run_scene(stages["run"])
-    assert report["views"] == len(scene.cameras) and report["prompt"] is None
-    plane = removal_plane(RemovedLayout(stages["removed"]))
-    assert plane is not None
-    filled_any = False
-    for camera in scene.cameras:
-        hole = read_png(stages["holes"] / camera.name, kind="mask") > 0
-        removed = read_png(stages["removed"] / "images" / camera.name)
-        filled = read_png(out / "images" / camera.name)
-        assert (filled[~hole] == removed[~hole]).all()
-        filled_any |= bool(hole.any() and (filled[hole] != removed[hole]).any())
-        depth = read_depth(out / "depth" / exr_name(camera.name))
-        assert np.isfinite(depth[hole]).all()
-        # the depth fill stops at the plane the object stood on (nothing in the hole lies beyond it)
-        np.testing.assert_allclose(stop_at_plane(camera, hole, depth, plane, 1e-4), depth)
-    assert filled_any and (out / "sheet_train.png").is_file()
-
-
-def test_views_inpainted_at_once_give_what_one_after_the_other_gives(stages):
-    """Threads and processes change when a view is filled, never what: the same images, depth and sheets (whose
-    rows keep view order although views finish in any order)."""
-    outs = {}
-    for workers, parallel in ((1, ""), (3, "threads"), (2, "processes")):
-        outs[parallel] = stages["work"] / f"telea_{workers}_{parallel}"
-        report = run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="telea", removed=str(stages["removed"]),
-                                           holes=str(stages["holes"]), out=str(outs[parallel]), workers=workers,
-                                           parallel=parallel))
-        assert (report["workers"], report["parallel"]) == (workers, parallel)
-    one = outs[""]
-    for out in (outs["threads"], outs["processes"]):
-        for name in sorted(p.name for p in (one / "images").iterdir()):
-            assert (read_png(one / "images" / name) == read_png(out / "images" / name)).all()
-            a, b = (read_depth(folder / "depth" / exr_name(name)) for folder in (one, out))
-            np.testing.assert_array_equal(a, b)
-        for sheet in ("sheet_train.png", "sheet_test.png"):
-            assert (one / sheet).is_file() == (out / sheet).is_file()
-            if (one / sheet).is_file():
-                assert (read_png(one / sheet) == read_png(out / sheet)).all()
-
-
-@pytest.mark.parametrize("parallel", ["threads", "processes"])
-def test_a_corrupt_view_stops_a_parallel_inpainting_and_writes_nothing(stages, tmp_path, parallel):
-    removed = tmp_path / "removed"
-    shutil.copytree(stages["removed"], removed)
-    broken = sorted((removed / "images").iterdir())[2]
-    broken.write_bytes(b"not a png")
-    out = tmp_path / "telea"
-    with pytest.raises(InputError, match=broken.name):
-        run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="telea", removed=str(removed),
-                                  holes=str(stages["holes"]), out=str(out), workers=2,
-                                  parallel=parallel))
-    assert not out.exists()
-
-
-def test_views_go_as_the_inpainter_says_unless_told_and_an_unknown_way_is_a_clear_error():
-    telea = create("telea")
-    assert _workers(InpaintConfig(workers=2), telea) == (2, "threads")
-    assert _workers(InpaintConfig(workers=2, parallel="processes"), telea) == (2, "processes")
-    assert _workers(InpaintConfig(workers=1, parallel="processes"), telea) == (1, "")
-    with pytest.raises(InputError, match="'threads' or 'processes'"):
-        _workers(InpaintConfig(parallel="fibers"), telea)
-
-
-def _running(pid: int) -> bool:
-    """Whether process `pid` still runs (a zombie no one has reaped yet has ended)."""
-    try:
-        return Path(f"/proc/{pid}/stat").read_text().split(") ")[1][0] != "Z"
-    except (FileNotFoundError, IndexError):
-        return False
-
-
-@pytest.mark.skipif(not Path("/proc/self/stat").is_file(), reason="reads process states from /proc")
-def test_worker_processes_end_with_a_parent_killed_outright():
-    """Ray cancelling a task or `kill -9` gives the pool no chance to shut down; its workers, each holding a GPU
-    context on a GPU, must not wait for work forever."""
-    code = ("import os, time\nfrom engine.inpaint.run import _pool\npool = _pool(2, 'processes')\n"
-            "print(*{pool.submit(os.getpid).result() for _ in range(4)}, flush=True)\ntime.sleep(120)\n")
-    root = Path(__file__).resolve().parents[1]
-    parent = subprocess.Popen([sys.executable, "-c", code], cwd=root, stdout=subprocess.PIPE, text=True,
-                              env={**os.environ, "PYTHONPATH": str(root)})
-    workers = [int(pid) for pid in parent.stdout.readline().split()]
-    assert workers and all(_running(pid) for pid in workers)
-    parent.kill()
-    parent.wait()
-    deadline = time.monotonic() + 15
-    while any(_running(pid) for pid in workers) and time.monotonic() < deadline:
-        time.sleep(0.2)
-    assert not any(_running(pid) for pid in workers)
-
-
-def test_nanobanana_paints_the_input_images_with_the_paper_prompt_and_never_writes_the_key(stages, monkeypatch,
-                                                                                          capfd):
-    from loopback_gemini import gemini_server, input_image, prompt_of
-
-    key = "secret-key-do-not-log-4711"
-    monkeypatch.setenv("GEMINI_API_KEY", key)
-    monkeypatch.setenv("NO_PROXY", "127.0.0.1")
-    out = stages["work"] / "nanobanana"
-    with gemini_server() as (url, requests):
-        monkeypatch.setenv("GOOGLE_GEMINI_BASE_URL", url)  # the SDK's own setting for another endpoint
-        report = run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="nanobanana", out=str(out)))
-    scene = load_run_scene(stages["run"])
-    assert len(requests) == len(scene.cameras) == report["views"]
-    assert {prompt_of(r) for r in requests} == {PAPER_PROMPTS["livingroom"]}
-    for i, camera in enumerate(scene.cameras):  # the input images, not the removed renders, went out
-        assert (input_image(requests[i]) == scene.images[i]).all()
-        assert (read_png(out / "images" / camera.name) == scene.images[i][:, ::-1]).all()
-    assert not (out / "depth").exists()
-    written = b"".join(p.read_bytes() for p in out.rglob("*") if p.is_file())
-    captured = capfd.readouterr()
-    assert key.encode() not in written and key not in captured.out + captured.err
-
+@pytest.fixture
+def stages(tiny_stages: dict[str, Path]) -> dict[str, Path]:
+    return tiny_stages
 
 def errors_toward(run_dir: Path, views: list[int], masks: Path, targets: Path, before: Path) -> tuple[float, float]:
     """Mean absolute error (0-255) inside `masks` of the given training views between the targets and (a) the
@@ -310,7 +180,6 @@ def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_
 
 
 def test_finetune_without_lpips_weights_says_how_to_go_on(stages, tmp_path, monkeypatch):
-    from engine.base.errors import InputError
     from engine.complete.run import CompleteConfig, run_complete
 
     monkeypatch.delenv("LPIPS_BACKBONE", raising=False)
@@ -324,7 +193,6 @@ def test_finetune_without_lpips_weights_says_how_to_go_on(stages, tmp_path, monk
 def test_recolmap_is_for_new_scenes_and_stops_cleanly_where_colmap_cannot_register(stages, tmp_path):
     """The tiny scene's 96x72 views hold too few SIFT features for COLMAP: a clear error, no scene folder left
     half-written (tests/test_recolmap.py checks the poses where COLMAP succeeds)."""
-    from engine.base.errors import InputError
     from engine.complete.run import CompleteConfig, run_complete
 
     inpainted = fsr_for_ft(stages)
@@ -342,10 +210,7 @@ def test_a_cancelled_finetune_resumes_with_complete_and_keeps_its_frozen_gaussia
     `train --resume` on that run refuses (it would drop the finetune's objective and frozen Gaussians);
     the same `complete` command finishes it with the removed scene's Gaussians unchanged bit for bit."""
     import json
-    import os
     import signal
-    import subprocess
-    import sys
 
     from engine.complete.run import CompleteConfig, run_complete
     from engine.io.ply_io import load_ply
@@ -383,7 +248,6 @@ def test_a_completion_stopped_before_training_runs_again_with_the_same_command(s
     """Stopped before its first step (its run/ made, never configured; a scene write cut short): the same
     command starts it again, nobody deletes anything by hand. A finished one, and a folder that is not a
     completion's, are refused with one line, and the latter is left as it was."""
-    from engine.base.errors import InputError
     from engine.complete.run import CompleteConfig, run_complete
 
     out = tmp_path / "init"
@@ -412,7 +276,6 @@ def test_a_warm_init_starts_from_the_removed_scene_and_trains_a_tenth_of_the_ste
 
     import torch
 
-    from engine.base.errors import InputError
     from engine.complete.run import CompleteConfig, _job, run_complete
     from engine.complete.warm_start import warm_setup, within_cap
     from engine.io.ply_io import load_ply
