@@ -1,12 +1,13 @@
-"""Files too large for one device call (the FID weights, Ray's wheel), split here and joined on the GPU machine.
+"""Large files (the FID weights, Ray's wheel) sent to a GPU host in parts, for a copy of the tree that is capped in
+size per transfer: split here, joined there.
 
-    python benchmarks/carry.py split FILE... [--mb 30]     # -> .bench/carry-<k>/ (carry each in its own call)
-    python3 benchmarks/carry.py join DEST                   # on the device: every file whose parts have all come
+    python benchmarks/carry.py split FILE... [--mb 30]     # -> .bench/carry-<k>/ (send each folder in its own copy)
+    python3 benchmarks/carry.py join DEST                   # on the GPU host: every file whose parts have all come
 
-A call carries at most 64 MiB with the tracked tree, so `split` writes parts of at most --mb MB into numbered
-folders under .bench/ (git-ignored), each part named FILE.partK-of-N beside a .sha256 of the whole file. `join`
-(run by benchmarks/gpu.sh on every call) keeps the parts it is carried in DEST/.parts and writes a file once all of
-its parts are there and its checksum holds; a partly carried file stays absent, never half written.
+`split` writes parts of at most --mb MB into numbered folders under .bench/ (git-ignored), each part named
+FILE.partK-of-N beside a .sha256 of the whole file. `join` (run by benchmarks/gpu.sh before each job) keeps the parts
+that arrived in DEST/.parts and writes a file once all of its parts are there and its checksum holds; a file whose
+parts have not all come stays absent, never half written.
 """
 
 from __future__ import annotations

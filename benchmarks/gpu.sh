@@ -1,18 +1,18 @@
 #!/bin/bash
 # One runner for every GPU measurement docs/BENCHMARKS.md quotes. Run from the repository root on the GPU machine
-# (the `device` tool's, or any Linux host with CUDA and Python 3.12):
+# (any Linux host with CUDA and Python 3.12; what it lacks is sent with the tree, below):
 #
 #   SPLATFILL_COMMIT=<commit here> bash benchmarks/gpu.sh NAME [ARGS...]
 #
-# Every call first takes what it was carried, once per machine (a fresh machine is bare):
+# Every job first takes what was sent with the tree, once per machine (a fresh machine is bare):
 #   .whl/*.whl              wheels (gsplat, plyfile, lpips, ...) into /tmp/site
 #   .gsplat_build/*.tgz     gsplat's CUDA extension built on an earlier machine (`save-build` makes it); else it is
 #                           built once here (about 80 s), before any clock starts
 #   .bench/*/*.tgz.KofN     generated scenes packed by benchmarks/pack_scene.py -> /tmp/gpu/scenes/<name>
 #   .bench/carry-*/         large files split by benchmarks/carry.py -> /tmp/gpu/files (wheels there installed,
 #                           weights there used as SPLATFILL_WEIGHTS)
-# A SCENE argument is a name under /tmp/gpu/scenes or a path. Records go to $OUT/NAME/ (the device tool returns
-# $OUT), or to RESULTS=DIR. SPLATFILL_COMMIT names the code, since the machine's copy of the tree has no .git.
+# A SCENE argument is a name under /tmp/gpu/scenes or a path. Records go to $OUT/NAME/ (the folder the host's
+# results are fetched from), or to RESULTS=DIR. SPLATFILL_COMMIT names the code where the tree has no .git.
 #
 # NAMEs (each a measurement of one BENCHMARKS section; a variant to judge is a branch or an engine flag, never a patch):
 #   setup                          only the above
@@ -24,19 +24,19 @@
 #   removal SCENE                  benchmarks/removal_sweep.py: thresholds and hole-mask settings     ("Removal")
 #   segments SCENE...              a 100k-budget training each, then benchmarks/segments.py    ("Objects without masks")
 #   capture PHOTOS...              benchmarks/capture_path.py: the README's "Your own capture" on real photos, timed, and
-#                                  its pictures; pycolmap's wheel carried (.whl or carry.py)          ("Real captures")
+#                                  its pictures; pycolmap's wheel sent (.whl or carry.py)             ("Real captures")
 #   inpaint PHOTOS [VIEWS]         benchmarks/inpaint_speed.py: seconds per 1 MP view, every offline inpainter ("Inpainting")
 #   subject SCENE...               train, segment --auto (scored by benchmarks/segments.py), remove object_1, holes:
 #                                  the subject found and removed without masks                  ("Objects without masks")
 #   judge SCENE [REMOVE FLAGS]     base run, remove (with the flags), holes, exemplar, Ref-exemplar; scored by
 #                                  benchmarks/removal_score.py and hole_error.py             ("Removal and its effects")
-#   matrix SCENE... [-- ARGS]      scripts/benchmark.py's whole matrix (its own defaults, ARGS added)   ("Completion")
+#   matrix SCENE... [-- ARGS]      benchmarks/matrix.py's whole matrix (its own defaults, ARGS added)   ("Completion")
 #   start NAME [ARGS]              any of the above detached (for runs past one call's 10 minutes); its records go
 #                                  to /tmp/gpu/out/NAME, its log to /tmp/gpu/NAME.log
 #   wait SECONDS                   until the detached runs end or SECONDS pass
-#   collect                        the detached runs' records (JSON, CSV, Markdown, text, pictures) as $OUT/records.tgz
-#                                  (the device tool returns at most 8 files a call)
-#   save-build                     gsplat's built extension into $OUT/gsplat_build.tgz (carry it as .gsplat_build/)
+#   collect                        the detached runs' records (JSON, CSV, Markdown, text, pictures) as one file,
+#                                  $OUT/records.tgz, to fetch at once
+#   save-build                     gsplat's built extension into $OUT/gsplat_build.tgz (send it back as .gsplat_build/)
 #   wheels                         HERE, not on the GPU machine: download the wheels it lacks into .whl/ (17 MB,
 #                                  git-ignored); imageio-ffmpeg (68 MB, for turntable MP4s) goes through carry.py
 set -o pipefail

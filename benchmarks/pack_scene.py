@@ -1,9 +1,9 @@
-"""Pack generated scenes into chunks a device call can carry.
+"""Pack generated scenes small, in chunks of a given size, to send them to a GPU host.
 
-A 640x480/100-view scene is about 50 MB and a call carries at most 64 MiB with the tracked tree, so each
-scene travels in parts over calls to one warm machine (benchmarks/gpu.sh receives them). Packing drops what the
-device stages never read (depth/, gt_depth/: only `engine preview` shows them) and stores images/ and gt/ as
-lossless WebP, checked pixel for pixel here; `unpack_scene.py` on the device writes them back as PNG.
+A 640x480/100-view scene is about 50 MB as PNGs. Packing drops what the GPU stages never read (depth/, gt_depth/:
+only `engine preview` shows them) and stores images/ and gt/ as lossless WebP, checked pixel for pixel here, in
+chunks of at most CHUNK_MB for transfers capped in size; `unpack_scene.py` on the GPU host (benchmarks/gpu.sh runs
+it) writes them back as PNG.
 
     python benchmarks/pack_scene.py OUT_DIR CHUNK_MB SCENE...    ->  OUT_DIR/<scene>.tgz.<k>of<n>
 """

@@ -1,4 +1,4 @@
-"""On the device: join every scene whose parts have all arrived in PARTS and unpack it into SCENES, WebP
+"""On the GPU host: join every scene whose parts have all arrived in PARTS and unpack it into SCENES, WebP
 back to PNG (lossless both ways), then mark it ready for the runner.
 
     python3 benchmarks/unpack_scene.py PARTS SCENES

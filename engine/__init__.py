@@ -2,7 +2,7 @@
 
 Pure numpy/torch; never imports bpy. Blender-side code talks to it only through files on disk
 and the JSON-lines progress stream of `python -m engine ...`. The stages are packages, each importing only
-those below it (checked by tests/test_architecture.py; docs/ARCHITECTURE.md draws it):
+those below it (checked by tests/cli/test_architecture.py; docs/ARCHITECTURE.md draws it):
 
     cli -> complete -> inpaint -> edit -> train -> pictures -> metrics -> render -> io -> formats -> base
 """

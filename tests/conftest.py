@@ -34,7 +34,7 @@ def pytest_configure(config) -> None:
     if os.environ.get("PYTEST_XDIST_WORKER"):  # workers share the cores: one thread each, not two fighting each
         os.environ["OMP_NUM_THREADS"] = os.environ["MKL_NUM_THREADS"] = "1"
     # scores stay hermetic: the weights `make setup` took from registry packages are found only where a test
-    # names them (tests/test_metrics.py), so a test that expects "n/a" gets it on a set-up machine too
+    # names them (tests/metrics/test_metrics.py), so a test that expects "n/a" gets it on a set-up machine too
     os.environ["SPLATFILL_WEIGHTS"] = str(Path(config.rootpath) / ".pytest_cache" / "no-weights")
     config.addinivalue_line("markers", "slow: end to end: generated scenes, training runs, Blender rendering")
     config.addinivalue_line("markers", "fast: unit tests on tiny inputs (the whole set runs in under 2 minutes)")

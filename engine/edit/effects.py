@@ -208,7 +208,7 @@ def trimmed_mean(values: np.ndarray, cut: float = 10.0) -> np.ndarray:
     a texture of two colours (wood stripes, a checker) a median jumps from one to the other at a different share
     in each channel. On a checker floor darkened to 0.2 of its light, the per-channel medians gave gains of
     [2.18 3.55 3.36] for the true 5 (a colour cast once relit); these means give 4.77-5.20 in every channel
-    (tests/test_effects.py). The cut keeps the robustness to outliers (other objects' colours, speculars).
+    (tests/edit/test_effects.py). The cut keeps the robustness to outliers (other objects' colours, speculars).
     Measured on GPU removals: docs/BENCHMARKS.md, "Removal and its effects"."""
     lo, hi = np.percentile(values, [cut, 100.0 - cut], axis=0)
     inside = (values >= lo) & (values <= hi)

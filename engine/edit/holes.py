@@ -15,10 +15,7 @@ test counts them as seen, since for it an infinite depth is open sky.
 Why the training views' depth is the removed scene's and not the whole scene's: outside the object's masks a
 view shows the background, but a render of the whole scene spreads the object's Gaussians a pixel or two past
 its silhouette and across thin gaps (the tabletop toy's body over the mat between its tracks), so the mat seen
-through the gap failed the depth test. Measured at 640x480/100 views on six base runs (two per family), both
-rules on the same trainings: unseen IoU tabletop 0.825/0.782 -> 0.873/0.875, livingroom 0.873/0.942 ->
-0.900/0.945, statue 0.955/0.948 unchanged (docs/BENCHMARKS.md, "Hole masks").
-It also spares a render of every view.
+through the gap failed the depth test (docs/BENCHMARKS.md, "Decisions"). It also spares a render of every view.
 
 Before warping, rays of the object's region that the removed render lets through the support (the table
 under the object was never built, so the render shows its underside, which side views saw) are stopped at

@@ -274,9 +274,8 @@ def _train_samples(scene, after: list, masks: list[np.ndarray]) -> Samples:
 
 def _rerendered(run: TrainedRun, gaussians, after: list, device, views: list[int] | None = None) -> list:
     """`after` with its colours rendered again from `gaussians` (relighting moves no surface): in `views` only
-    where a step reads no others (default every view); the rest keep their old colours. One render of every view
-    took 14.7 s of the tiny CPU livingroom's removal (32 views at 160x120), which once rendered them all after
-    each of its four colour changes."""
+    where a step reads no others (default every view); the rest keep their old colours: rendering every view is
+    most of a removal's time on a CPU, and four colour changes each rendering them all would repeat it four times."""
     views = list(range(len(after))) if views is None else views
     new = render_pictures(gaussians, [run.scene.cameras[i] for i in views], run.sh_degree, device, depth=False)
     out = list(after)

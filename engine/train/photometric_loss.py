@@ -4,7 +4,7 @@ Why: autograd records SSIM as about 25 small operations and replays about 40 in 
 training step. Their GPU time is small, but the training loop is bound by the host's time to launch
 kernels (docs/BENCHMARKS.md, "Training"), so each launch saved is time saved. The forward
 pass is engine.metrics.image_metrics.ssim_parts (the metric's own code); the backward pass is the closed form
-below, checked against autograd in tests/test_training.py.
+below, checked against autograd in tests/train/test_training.py.
 
 With S = a1 a2 / (b1 b2) per pixel and channel, the five blurred statistics m_x, m_y, E[x^2], E[y^2],
 E[xy] (blur G), and only x (the render) needing a gradient:

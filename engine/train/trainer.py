@@ -2,7 +2,7 @@
 
 Losses (Gaussian Grouping): 0.8 L1 + 0.2 (1 - SSIM) + CE(classifier(identity map), mask) / log(C)
 + every 5 steps the 3D identity regulariser. No budget: gsplat's DefaultStrategy; a budget
-(--max-gaussians N): gsplat's MCMCStrategy capped at N (engine.train.budget_strategy), with its opacity and
+(--max-gaussians N): gsplat's MCMCStrategy capped at N (engine.train.strategies), with its opacity and
 scale regularisers.
 """
 
@@ -15,7 +15,6 @@ from typing import Protocol
 
 import numpy as np
 import torch
-from gsplat.strategy import DefaultStrategy
 
 from engine.base.errors import InputError
 from engine.capture.scene import Scene
@@ -23,10 +22,10 @@ from engine.io.gaussians import PARAM_NAMES, Gaussians, init_from_points, new_cl
 from engine.metrics.image_metrics import psnr_from_mse
 from engine.render.rasterize import CameraTensors, render
 from engine.train.adam_step import AdamState, adam_step
-from engine.train.budget_strategy import BudgetStrategy
 from engine.train.config import TrainConfig
 from engine.train.identity_regularizer import IdentityRegularizer
 from engine.train.photometric_loss import photometric_loss
+from engine.train.strategies import BudgetStrategy, GrowStrategy, make_strategy
 
 
 def scene_extent(scene: Scene) -> float:
@@ -85,10 +84,7 @@ def grouping_terms(trainer: Trainer, view: int, out) -> torch.Tensor | float:
         if cfg.reg3d_every > 0 and step % cfg.reg3d_every == 0:
             loss = loss + trainer.regularizer.loss(trainer.params["identity"], trainer.classifier,
                                                    trainer.params["means"], step, trainer.generator)
-    if trainer.budget:
-        loss = (loss + cfg.mcmc_opacity_reg * torch.sigmoid(trainer.params["opacities"]).mean()
-                + cfg.mcmc_scale_reg * torch.exp(trainer.params["scales"]).mean())
-    return loss
+    return loss + trainer.strategy.regularisation(trainer.params, cfg)
 
 
 class Objective(Protocol):
@@ -112,8 +108,8 @@ class Trainer:
         self.frozen = frozen
         self.objective = objective or GroupingObjective()
         self.train_views = views if views is not None else scene.train
-        self.budget = config.max_gaussians > 0
-        if self.budget and device.type != "cuda":
+        self.strategy: BudgetStrategy | GrowStrategy = make_strategy(config)
+        if isinstance(self.strategy, BudgetStrategy) and device.type != "cuda":
             from engine.train.gsplat_cpu import enable_cpu_mcmc
 
             enable_cpu_mcmc()
@@ -126,10 +122,8 @@ class Trainer:
         self.optimizers = {name: self._adam(name, p) for name, p in self.params.items()}
         self.classifier = (classifier or new_classifier(num_classes_of(scene))).to(device)
         self.classifier_opt = AdamState(self.classifier.parameters(), lr=config.lr_classifier)
-        self.strategy = self._strategy()
         self.strategy.check_sanity(self.params, self.optimizers)
-        self.strategy_state = (self.strategy.initialize_state() if self.budget
-                               else self.strategy.initialize_state(scene_scale=self.extent))
+        self.strategy_state = self.strategy.start(self.extent)
         self.regularizer = IdentityRegularizer(k=config.reg3d_k, samples=config.reg3d_samples,
                                                weight=config.reg3d_weight, pool_size=config.reg3d_pool,
                                                refresh_every=config.reg3d_refresh)
@@ -145,12 +139,11 @@ class Trainer:
         if start is not None:
             return self._parameters(start)
         points, colors = self.scene.points, self.scene.colors
-        if self.budget and len(points) > cfg.max_gaussians:  # MCMC never removes: start within the cap
-            keep = np.random.default_rng(cfg.seed).choice(len(points), cfg.max_gaussians, replace=False)
+        cap = self.strategy.cap
+        if cap and len(points) > cap:  # a strategy that never removes starts within its cap
+            keep = np.random.default_rng(cfg.seed).choice(len(points), cap, replace=False)
             points, colors = points[keep], colors[keep]
-        # gsplat's MCMC trainer starts at opacity 0.5; its 0.1x initial scale is meant for random
-        # initialisation and starves a model started from sparse points (measured: 10.5 vs 24.5 dB).
-        init_opacity = 0.5 if self.budget else cfg.init_opacity
+        init_opacity = self.strategy.init_opacity or cfg.init_opacity
         return self._parameters(init_from_points(points, colors, cfg.sh_degree, init_opacity, cfg.seed))
 
     def _parameters(self, tensors: Gaussians) -> torch.nn.ParameterDict:
@@ -159,14 +152,6 @@ class Trainer:
     def _adam(self, name: str, param: torch.nn.Parameter) -> AdamState:
         lr = getattr(self.config, f"lr_{name}") * (self.extent if name == "means" else 1.0)
         return AdamState([param], lr=lr, eps=1e-15, name=name)
-
-    def _strategy(self) -> DefaultStrategy | BudgetStrategy:
-        cfg = self.config
-        if self.budget:
-            return BudgetStrategy(cap_max=cfg.max_gaussians, refine_start_iter=cfg.refine_start,
-                                refine_stop_iter=cfg.refine_stop, refine_every=cfg.refine_every)
-        return DefaultStrategy(refine_start_iter=cfg.refine_start, refine_stop_iter=cfg.refine_stop,
-                               refine_every=cfg.refine_every, reset_every=cfg.reset_every, verbose=False)
 
     def _next_view(self) -> int:
         if not self.order:
@@ -195,11 +180,7 @@ class Trainer:
                 if param.grad is not None:
                     param.grad[: self.frozen] = 0
         adam_step((*self.optimizers.values(), self.classifier_opt))
-        if self.budget:
-            self.strategy.step_post_backward(self.params, self.optimizers, self.strategy_state, step, out.info, lr=lr)
-        else:
-            self.strategy.step_post_backward(self.params, self.optimizers, self.strategy_state, step, out.info,
-                                             packed=False)
+        self.strategy.after_backward(self.params, self.optimizers, self.strategy_state, step, out.info, lr)
         self.step_index += 1
         return StepResult(loss=loss.detach(), rgb=out.rgb.detach(), target=target)
 

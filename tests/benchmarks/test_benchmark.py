@@ -12,7 +12,6 @@ from pathlib import Path
 from engine.io.image_io import read_png
 
 REPO = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(REPO / "scripts"))  # benchmark_ray, for the scheduling tests below
 
 
 def benchmark(scene: Path, out: Path, *extra: str, seeds: tuple[str, ...] = ("0",)) -> subprocess.CompletedProcess:
@@ -77,7 +76,7 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
 def test_the_direct_baseline_inpaints_without_waiting_for_the_hole_masks(living_scene: Path, tmp_path: Path,
                                                                          monkeypatch):
     """Its inpainting (the matrix's longest stage) needs the removal only; the other cells' need the masks too."""
-    from benchmark_stages import Stages
+    from benchmarks.matrix_stages import Stages
 
     monkeypatch.setenv("SPLATFILL_ENGINE_PYTHON", sys.executable)
     stages = Stages(living_scene, 0, tmp_path, argparse.Namespace(preset="tiny", max_gaussians=0, steps=100,
@@ -94,7 +93,7 @@ def test_cells_that_continue_from_the_base_run_take_the_short_steps_and_the_scra
     warm Init and FT, which take --short-steps)."""
     import argparse
 
-    from benchmark_stages import cell_method
+    from benchmarks.matrix_stages import cell_method
 
     args = argparse.Namespace(short_steps=120, complete_steps=100, perceptual="l1")
     steps = {cell: cell_method(cell, args)[2] for cell in ("init", "reference", "direct", "ft3", "ftall",
@@ -109,10 +108,9 @@ def test_the_benchmark_runs_the_shipped_defaults_unless_told_otherwise(tmp_path:
     """With no flags a cell is what a user gets from the CLI: FT's perceptual term is the method's default, and the
     inpainting is called without --dilate so InpaintConfig's default applies (the table once ran dilate 4 and
     ST-LPIPS while the CLI shipped 0 and LPIPS)."""
-    import benchmark
-    import benchmark_stages
-    from benchmark_stages import Stages, cell_method
-
+    from benchmarks import matrix as benchmark
+    from benchmarks import matrix_stages as benchmark_stages
+    from benchmarks.matrix_stages import Stages, cell_method
     from engine.complete.registry import get
 
     args = benchmark.build_parser().parse_args(["--scenes", "S", "--out", str(tmp_path)])
@@ -126,7 +124,7 @@ def test_the_benchmark_runs_the_shipped_defaults_unless_told_otherwise(tmp_path:
 
 def test_an_inpainting_task_shares_a_gpu_with_the_trainings_and_no_more_trainings_than_asked_share_one():
     """Ray packs tasks onto a GPU while their shares add up to at most one (in units of 1e-4)."""
-    from benchmark_ray import task_resources
+    from benchmarks.matrix_ray import task_resources
 
     def units(kind: dict) -> int:
         return round(kind["num_gpus"] * 10_000)
@@ -140,7 +138,7 @@ def test_an_inpainting_task_shares_a_gpu_with_the_trainings_and_no_more_training
 
 
 def test_model_inpainters_take_a_gpu_of_their_own_and_the_light_ones_share():
-    from benchmark_ray import light
+    from benchmarks.matrix_ray import light
 
     assert light("telea") and light("exemplar") and light("fsr")
     assert not light("lama") and not light("diffusion") and not light("no-such-inpainter")

@@ -3,12 +3,9 @@ them (no scene is trained: the records are what is under test)."""
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
-
-from benchmark_report import HEIGHT, speed_accuracy_chart, stability_lines  # noqa: E402
+from benchmarks.matrix_report import HEIGHT, speed_accuracy_chart, stability_lines
 
 
 def cell(scene: str, method: str, m_psnr: float | None, status: str = "done", reason: str = "") -> dict:
@@ -45,7 +42,7 @@ def test_chart_has_a_row_per_scene_a_mean_row_and_numbered_methods():
 def test_run_time_is_end_to_end_and_each_cell_carries_its_share_of_the_shared_stages():
     """Two cells of one scene share a 100 s base run and removal; Direct paints the inputs (no holes) but waits
     for them too: end to end it is 100 + 20 + 30 + 10 s, its share 60 + 30 + 10 (the others split holes)."""
-    from benchmark import add_shares
+    from benchmarks.matrix import add_shares
 
     base = {"train": 100.0, "remove": 20.0}
     init = cell("a", "Init-telea", 19.0) | {"stages": base | {"holes": 6.0, "inpaint-telea": 8.0},
@@ -57,7 +54,7 @@ def test_run_time_is_end_to_end_and_each_cell_carries_its_share_of_the_shared_st
 
 
 def test_set_metrics_are_not_averaged_across_scenes_and_a_negative_kid_ties_with_zero():
-    from benchmark import _table, summarise
+    from benchmarks.matrix import _table, summarise
 
     cells = [cell(s, m, 19.0) | {"fid": f, "kid": k} for s, m, f, k in
              (("a", "Init-telea", 40.0, -0.01), ("a", "Ref-telea", 50.0, 0.0), ("b", "Init-telea", 30.0, 0.02))]
@@ -71,7 +68,8 @@ def test_cells_of_two_commits_are_refused_in_one_table_unless_asked_and_then_nam
     import json
 
     import pytest
-    from benchmark import MixedCommits, write_results
+
+    from benchmarks.matrix import MixedCommits, write_results
 
     cells = [cell("a", "Init-telea", 19.0) | {"commit": "abc1234"},
              cell("a", "Ref-telea", 20.0) | {"commit": "def5678"}]
@@ -87,8 +85,8 @@ def test_held_out_and_tuning_scenes_are_averaged_apart_and_a_tuning_tool_refuses
     import json
 
     import pytest
-    from benchmark import summarise
 
+    from benchmarks.matrix import summarise
     from engine.base.errors import InputError
     from engine.formats.protocol import refuse_held_out, scene_role
 
@@ -106,14 +104,14 @@ def test_held_out_and_tuning_scenes_are_averaged_apart_and_a_tuning_tool_refuses
 
 
 def test_a_scene_table_gives_the_hole_iou_of_the_masks_inpainted_before_their_unseen_part(tmp_path: Path):
-    from benchmark import write_results
+    from benchmarks.matrix import write_results
 
     write_results([cell("a", "Init-telea", 19.0) | {"hole_iou": 0.54, "unseen_iou": 0.93}], tmp_path)
     assert "0.540 as inpainted, 0.930 for their unseen part alone" in (tmp_path / "tables.md").read_text()
 
 
 def test_the_oracles_stand_beside_the_methods_unranked():
-    from benchmark import _table, summarise
+    from benchmarks.matrix import _table, summarise
 
     oracle = {"flat": {"m_psnr": 24.0}, "blur": {"m_psnr": 30.0}}
     rows = summarise([cell("a", "Init-telea", 19.0) | {"oracle_scores": oracle}])["a"]

@@ -1,5 +1,5 @@
 """Photos and video frames as `capture` prepares them for SfM: upright, fitted, the sharpest frames (the SfM
-itself runs in tests/test_user_path.py, on the README's commands)."""
+itself runs in tests/capture/test_user_path.py, on the README's commands)."""
 
 from __future__ import annotations
 
@@ -8,10 +8,10 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
-from tests.capture.test_user_path import SIDE, exif_jpeg
 
 from engine.base.errors import InputError
 from engine.capture.photos import photo_files, prepare_photos, prepare_video
+from tests.capture.test_user_path import SIDE, exif_jpeg
 
 
 def scene_picture(h: int = 120, w: int = 200) -> np.ndarray:

@@ -192,7 +192,7 @@ def test_finetune_without_lpips_weights_says_how_to_go_on(stages, tmp_path, monk
 
 def test_recolmap_is_for_new_scenes_and_stops_cleanly_where_colmap_cannot_register(stages, tmp_path):
     """The tiny scene's 96x72 views hold too few SIFT features for COLMAP: a clear error, no scene folder left
-    half-written (tests/test_recolmap.py checks the poses where COLMAP succeeds)."""
+    half-written (tests/complete/test_recolmap.py checks the poses where COLMAP succeeds)."""
     from engine.complete.run import CompleteConfig, run_complete
 
     inpainted = fsr_for_ft(stages)

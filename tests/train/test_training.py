@@ -259,7 +259,7 @@ def test_budget_noise_equals_gsplat_mcmc_noise():
     """BudgetStrategy's position noise is gsplat's inject_noise_to_position, only computed differently."""
     from gsplat.strategy.ops import inject_noise_to_position
 
-    from engine.train.budget_strategy import inject_position_noise
+    from engine.train.strategies import inject_position_noise
     from engine.train.gsplat_cpu import enable_cpu_mcmc
 
     enable_cpu_mcmc()

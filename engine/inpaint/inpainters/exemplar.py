@@ -181,11 +181,9 @@ class Exemplar(Inpainter):
     summary = "exemplar-based texture synthesis (Criminisi 2004), ours, on the CPU"
 
     def parallel_views(self) -> str:
-        """Processes: a view is a Python loop of one patch at a time (6.7 s a 640x480 view on one core of an H200
-        host), so views go at once in processes, one a core: 100 livingroom direct regions took 0.86 s a view
-        with eight, 0.63 with sixteen, their start included. The search ran on the GPU before (d1a4076's first
-        form): there processes wait on each other's GPU contexts (1.19 s a view alone, 1.14 with eight) and take
-        the GPU from trainings beside."""
+        """Processes: a view is a Python loop of one patch at a time (seconds a 640x480 view on one core), so views
+        go at once in processes, one a core. Not on the GPU: processes there wait on each other's GPU contexts and
+        take the GPU from trainings beside (docs/BENCHMARKS.md, "Inpainting")."""
         return "processes"
 
     def inpaint_rgb(self, image, mask, prompt):

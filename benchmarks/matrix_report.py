@@ -1,6 +1,6 @@
 """The benchmark's stability report and speed-versus-accuracy chart, from its result cells.
 
-Pure Python (no numpy, no OpenCV), because scripts/benchmark.py also runs in Blender's Python.
+Pure Python (no numpy, no OpenCV), because benchmarks/matrix.py also runs in Blender's Python.
 - stability.md: per scene and method, mean and spread (sample standard deviation) over seeds of PSNR and
   m-PSNR, how many seeds finished, and a failure table: crashes and out of memory with their reason, and
   cells that made the hole worse than the unfilled scene.

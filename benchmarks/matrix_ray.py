@@ -26,7 +26,7 @@ PASSED = ("LAMA_MODEL", "DIFFUSION_MODEL", "GEMINI_API_KEY")
 
 
 def _stages(scene: str, seed: int, work: str, args: argparse.Namespace):
-    from benchmark_stages import Stages
+    from benchmarks.matrix_stages import Stages
 
     return Stages(Path(scene), seed, Path(work), args)
 
@@ -58,7 +58,7 @@ def inpaint_task(failed: str, scene: str, seed: int, inpainter: str, source: str
 
 def cell_task(failed: str, scene: str, seed: int, inpainter: str, method: str, work: str,
               args: argparse.Namespace) -> dict:
-    from benchmark_stages import run_cell
+    from benchmarks.matrix_stages import run_cell
 
     return run_cell(_stages(scene, seed, work, args), method, inpainter, args, failed=failed)
 
@@ -98,7 +98,7 @@ def start(args: argparse.Namespace) -> dict[str, dict]:
     """Connect to (or start) Ray with workers that import this folder; the resources each kind of task asks for."""
     import ray
 
-    path = os.pathsep.join(p for p in (str(REPO), str(REPO / "scripts"), os.environ.get("PYTHONPATH", "")) if p)
+    path = os.pathsep.join(p for p in (str(REPO), os.environ.get("PYTHONPATH", "")) if p)
     env = {"PYTHONPATH": path, **{k: v for k, v in os.environ.items() if k in PASSED or k.startswith("SPLATFILL_")}}
     ray.init(address=args.ray_address or None, runtime_env={"env_vars": env}, include_dashboard=False,
              logging_level="ERROR", log_to_driver=False)

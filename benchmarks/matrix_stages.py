@@ -1,7 +1,7 @@
-"""One benchmark cell and the stages it shares with the other cells of its scene and seed (scripts/benchmark.py).
+"""One benchmark cell and the stages it shares with the other cells of its scene and seed (benchmarks/matrix.py).
 
 Apart from the matrix and its tables because two schedulers run them: one after the other in the benchmark's own
-process, or as Ray tasks in worker processes (scripts/benchmark_ray.py), which import this module and nothing of
+process, or as Ray tasks in worker processes (benchmarks/matrix_ray.py), which import this module and nothing of
 the tables. Every stage skips what is on disk, so either scheduler resumes what the other left.
 """
 
