@@ -259,8 +259,8 @@ def test_budget_noise_equals_gsplat_mcmc_noise():
     """BudgetStrategy's position noise is gsplat's inject_noise_to_position, only computed differently."""
     from gsplat.strategy.ops import inject_noise_to_position
 
-    from engine.train.strategies import inject_position_noise
     from engine.train.gsplat_cpu import enable_cpu_mcmc
+    from engine.train.strategies import inject_position_noise
 
     enable_cpu_mcmc()
     gen = torch.Generator().manual_seed(0)
