@@ -125,7 +125,7 @@ def run_command(command: Command, args: argparse.Namespace, say: Callable[[str],
     config = load(command.from_args)(args) if command.from_args else config_from_args(args, load(command.config))
     result = load(command.run)(config)
     if isinstance(result, dict) and command.done:
-        say(command.done.format(config=config, **result))
+        say(command.done.format_map({**result, "config": config}))
     elif isinstance(result, str):
         say(result)
     elif result is not None and not isinstance(result, dict):

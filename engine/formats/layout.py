@@ -27,6 +27,12 @@ from pathlib import Path
 RGB, DEPTH, MASKS = "images", "depth", "masks"
 
 
+
+def _at(name: str, doc: str = "", kind: str = "") -> property:
+    """A property: `name` inside the layout's root, as a path or as the layout class named `kind` of that folder
+    (named, since layouts refer to ones defined further down). The one place each name is spelled."""
+    return property(lambda self: globals()[kind](self.root / name) if kind else self.root / name, doc=doc or None)
+
 @dataclass(frozen=True)
 class _Folder:
     root: Path
@@ -51,52 +57,28 @@ class Views(_Folder):
     def masks(self) -> Path:
         return self.root / MASKS
 
-    @property
-    def sheet(self) -> Path:
-        return self.root / "sheet.png"
+    sheet = _at("sheet.png")
 
 
 @dataclass(frozen=True)
 class SceneLayout(Views):
     """A scene folder: input views, their ground truth, and the COLMAP model."""
 
-    @property
-    def gt(self) -> Path:
-        return self.root / "gt"
-
-    @property
-    def gt_depth(self) -> Path:
-        return self.root / "gt_depth"
-
-    @property
-    def holes(self) -> Path:
-        return self.root / "holes"
-
-    @property
-    def effects(self) -> Path:
-        """Per gt view, the pixels outside the target that removing it changed (shadow, reflection)."""
-        return self.root / "effects"
-
-    @property
-    def unseen(self) -> Path:
-        """Per test view, the pixels no training view saw (the scores' seen-only PSNR leaves them out)."""
-        return self.root / "unseen"
-
-    @property
-    def sparse(self) -> Path:
-        return self.root / "sparse"
+    gt = _at("gt")
+    gt_depth = _at("gt_depth")
+    holes = _at("holes")
+    effects = _at("effects",
+               "Per gt view, the pixels outside the target that removing it changed (shadow, reflection).")
+    unseen = _at("unseen",
+               "Per test view, the pixels no training view saw (the scores' seen-only PSNR leaves them out).")
+    sparse = _at("sparse")
 
     @property
     def objects_json(self) -> Path:
         return self.masks / "objects.json"
 
-    @property
-    def split_json(self) -> Path:
-        return self.root / "split.json"
-
-    @property
-    def scene_json(self) -> Path:
-        return self.root / "scene.json"
+    split_json = _at("split.json")
+    scene_json = _at("scene.json")
 
 
 
@@ -104,19 +86,9 @@ class SceneLayout(Views):
 class CaptureLayout(SceneLayout):
     """`capture`'s output: a scene (images/, sparse/0/) made from photos, with how it was made."""
 
-    @property
-    def config_json(self) -> Path:
-        return self.root / "config.json"
-
-    @property
-    def report(self) -> Path:
-        """Written last: a folder with capture.json is a finished capture."""
-        return self.root / "capture.json"
-
-    @property
-    def work(self) -> Path:
-        """SfM's database and the phases finished, while the capture runs (removed when it is done)."""
-        return self.root / ".sfm"
+    config_json = _at("config.json")
+    report = _at("capture.json", "Written last: a folder with capture.json is a finished capture.")
+    work = _at(".sfm", "SfM's database and the phases finished, while the capture runs (removed when it is done).")
 
 
 @dataclass(frozen=True)
@@ -125,30 +97,12 @@ class RendersLayout(_Folder):
     multi-part EXRs of every view with the target (with/) and of the ground-truth views without it
     (without/), the cameras, the split, the objects and the generator's settings."""
 
-    @property
-    def with_object(self) -> Path:
-        return self.root / "with"
-
-    @property
-    def without_object(self) -> Path:
-        return self.root / "without"
-
-    @property
-    def cameras_json(self) -> Path:
-        return self.root / "cameras.json"
-
-    @property
-    def split_json(self) -> Path:
-        return self.root / "split.json"
-
-    @property
-    def objects_json(self) -> Path:
-        return self.root / "objects.json"
-
-    @property
-    def meta_json(self) -> Path:
-        """The generator's settings; the scene folder keeps them as scene.json."""
-        return self.root / "meta.json"
+    with_object = _at("with")
+    without_object = _at("without")
+    cameras_json = _at("cameras.json")
+    split_json = _at("split.json")
+    objects_json = _at("objects.json")
+    meta_json = _at("meta.json", "The generator's settings; the scene folder keeps them as scene.json.")
 
 
 @dataclass(frozen=True)
@@ -156,36 +110,19 @@ class SegmentsLayout(Views):
     """`segment`'s output: objects found after training (engine.segment.run), which the run then uses in
     place of its scene's own masks and objects."""
 
-    @property
-    def ids(self) -> Path:
-        """(N,) uint8 object id per Gaussian of the run's point_cloud.ply (0 = background)."""
-        return self.root / "ids.npy"
-
-    @property
-    def objects_json(self) -> Path:
-        return self.root / "objects.json"
-
-    @property
-    def report(self) -> Path:
-        return self.root / "segments.json"
+    ids = _at("ids.npy", "(N,) uint8 object id per Gaussian of the run's point_cloud.ply (0 = background).")
+    objects_json = _at("objects.json")
+    report = _at("segments.json")
 
 
 @dataclass(frozen=True)
 class RemovedLayout(Views):
     """`remove`'s output: the remaining Gaussians, their renders and the removed object's region per view."""
 
-    @property
-    def point_cloud(self) -> Path:
-        return self.root / "point_cloud.ply"
-
-    @property
-    def report(self) -> Path:
-        return self.root / "removal.json"
-
-    @property
-    def effects(self) -> EffectsLayout:
-        """What the object did to its surroundings (its shadow), relit in this removal."""
-        return EffectsLayout(self.root / "effects")
+    point_cloud = _at("point_cloud.ply")
+    report = _at("removal.json")
+    effects = _at("effects",
+               "What the object did to its surroundings (its shadow), relit in this removal.", "EffectsLayout")
 
 
 @dataclass(frozen=True)
@@ -197,9 +134,7 @@ class _MaskFolder(_Folder):
     def mask(self, view: str) -> Path:
         return self.root / view
 
-    @property
-    def sheet(self) -> Path:
-        return self.root / "sheet.png"
+    sheet = _at("sheet.png")
 
     @property
     def report(self) -> Path:
@@ -230,9 +165,7 @@ class EffectsLayout(_MaskFolder):
 class InpaintedLayout(Views):
     """`inpaint`'s output: the removed renders (or the input images) with their holes filled."""
 
-    @property
-    def config_json(self) -> Path:
-        return self.root / "config.json"
+    config_json = _at("config.json")
 
     def sheet_of(self, split: str) -> Path:
         return self.root / f"sheet_{split}.png"
@@ -242,46 +175,17 @@ class InpaintedLayout(Views):
 class RunLayout(_Folder):
     """A training run, and the folders each later stage adds to it."""
 
-    @property
-    def config_json(self) -> Path:
-        return self.root / "config.json"
-
-    @property
-    def checkpoints(self) -> Path:
-        return self.root / "checkpoints"
-
-    @property
-    def point_cloud(self) -> Path:
-        return self.root / "point_cloud.ply"
-
-    @property
-    def classifier(self) -> Path:
-        return self.root / "classifier.npz"
-
-    @property
-    def objects_json(self) -> Path:
-        return self.root / "objects.json"
-
-    @property
-    def metrics_json(self) -> Path:
-        return self.root / "metrics.json"
-
-    @property
-    def segments(self) -> SegmentsLayout:
-        return SegmentsLayout(self.root / "segments")
-
-    @property
-    def previous_segments(self) -> SegmentsLayout:
-        """The objects a later `segment` replaced or extended, kept for `segment --restore`."""
-        return SegmentsLayout(self.root / "segments.previous")
-
-    @property
-    def removed(self) -> RemovedLayout:
-        return RemovedLayout(self.root / "removed")
-
-    @property
-    def holes(self) -> HolesLayout:
-        return HolesLayout(self.root / "holes")
+    config_json = _at("config.json")
+    checkpoints = _at("checkpoints")
+    point_cloud = _at("point_cloud.ply")
+    classifier = _at("classifier.npz")
+    objects_json = _at("objects.json")
+    metrics_json = _at("metrics.json")
+    segments = _at("segments", "", "SegmentsLayout")
+    previous_segments = _at("segments.previous",
+               "The objects a later `segment` replaced or extended, kept for `segment --restore`.", "SegmentsLayout")
+    removed = _at("removed", "", "RemovedLayout")
+    holes = _at("holes", "", "HolesLayout")
 
 
     def inpainted(self, inpainter: str, source: str = "removed") -> InpaintedLayout:
@@ -292,37 +196,19 @@ class RunLayout(_Folder):
     def complete(self, method_name: str) -> CompleteLayout:
         return CompleteLayout(self.root / "complete" / method_name)
 
-    @property
-    def exports(self) -> Path:
-        """`export`'s files for other splat tools, by default (engine.convert.export)."""
-        return self.root / "exports"
+    exports = _at("exports", "`export`'s files for other splat tools, by default (engine.convert.export).")
 
 
 @dataclass(frozen=True)
 class CompleteLayout(_Folder):
     """`complete`'s output for one method: the scene it trained on, that training run, and the scores."""
 
-    @property
-    def scene(self) -> SceneLayout:
-        return SceneLayout(self.root / "scene")
-
-    @property
-    def run(self) -> RunLayout:
-        return RunLayout(self.root / "run")
-
-    @property
-    def renders(self) -> Path:
-        return self.root / "renders"
-
-    @property
-    def scores_json(self) -> Path:
-        """Written last: a folder with scores.json is a finished completion."""
-        return self.root / "scores.json"
-
-    @property
-    def recolmap_json(self) -> Path:
-        """--recolmap: how many views COLMAP registered and their pose error (kept for a resumed run)."""
-        return self.root / "recolmap.json"
+    scene = _at("scene", "", "SceneLayout")
+    run = _at("run", "", "RunLayout")
+    renders = _at("renders")
+    scores_json = _at("scores.json", "Written last: a folder with scores.json is a finished completion.")
+    recolmap_json = _at("recolmap.json",
+               "--recolmap: how many views COLMAP registered and their pose error (kept for a resumed run).")
 
 
 def run_of(ply: Path) -> RunLayout | None:
