@@ -23,28 +23,54 @@ from engine.formats.protocol import scene_role
 BENCHWIDE_OPTIONS = ("perceptual",)  # options the benchmark sets, when given, for every method that has them
 
 
+class MissingTime(RuntimeError):
+    """A stage is on disk but no process of this benchmark timed it: its cells' run times would undercount."""
+
+
 class Stages:
-    """The shared stages of one scene and seed, each run once and timed; times persist in stage_times.json."""
+    """The shared stages of one scene and seed, each run once and timed. Every process a stage takes writes its
+    own record under times/ (no file is read, changed and written back, so processes of other cells running at
+    once lose nothing); a stage's time is the sum of its processes (a stage that failed and ran again counts
+    both), each timed around the engine's whole process, its start and loading included."""
 
     def __init__(self, scene: Path, seed: int, work: Path, args: argparse.Namespace) -> None:
         self.scene, self.seed, self.args = scene, seed, args
         self.root = work / scene.name / f"seed{seed}"
         self.run = RunLayout(self.root / "run")
-        self.times_file = self.root / "stage_times.json"
-        self.times = _json(self.times_file)
+        self.times_dir = self.root / "times"
 
     def stage(self, key: str, done: Path, args: list[str]) -> None:
         if done.exists():
             return
-        start = time.perf_counter()
-        run_engine(args)
-        seconds = round(time.perf_counter() - start, 1)
-        self.root.mkdir(parents=True, exist_ok=True)
-        # re-read first: under Ray, stages of one scene and seed (two inpainters) finish in other processes
-        self.times = {**_json(self.times_file), key: seconds}
-        partial = self.times_file.with_suffix(f".{os.getpid()}.tmp")
-        partial.write_text(json.dumps(self.times, indent=1))
-        partial.replace(self.times_file)
+        self.timed(key, args)
+
+    def timed(self, key: str, args: list[str]) -> None:
+        """Run the engine with `args`, recording the process's seconds under `key` whether it succeeds or not."""
+        start, ok = time.perf_counter(), False
+        try:
+            run_engine(args)
+            ok = True
+        finally:
+            record = {"stage": key, "seconds": round(time.perf_counter() - start, 2), "ok": ok}
+            self.times_dir.mkdir(parents=True, exist_ok=True)
+            name = f"{key}.{os.getpid()}.{time.time_ns()}.json"
+            partial = self.times_dir / f".{name}.tmp"
+            partial.write_text(json.dumps(record))
+            partial.replace(self.times_dir / name)
+
+    def seconds(self, key: str) -> float:
+        """Every process's seconds of stage `key`, summed; a stage with none recorded is an error naming it."""
+        records = [json.loads(p.read_text()) for p in sorted(self.times_dir.glob(f"{key}.*.json"))]
+        if not records:
+            raise MissingTime(f"stage {key!r} of {self.root} is on disk but was never timed: delete its folder "
+                              "and run the benchmark again")
+        return round(sum(r["seconds"] for r in records), 2)
+
+    @property
+    def times(self) -> dict[str, float]:
+        """Each timed stage's seconds, summed over its processes."""
+        keys = sorted({p.name.split(".")[0] for p in self.times_dir.glob("*.json")}) if self.times_dir.is_dir() else []
+        return {k: self.seconds(k) for k in keys}
 
     def train(self) -> None:
         a = self.args
@@ -83,8 +109,7 @@ class Stages:
         input images, but its object regions come from the removal), the hole masks where it inpaints the removed
         renders, and its inpainting."""
         keys = ("train", "remove", *(("holes",) if source == "removed" else ()), _inpaint_key(inpainter, source))
-        times = {**_json(self.times_file), **self.times}  # under Ray other processes ran some of them
-        return {k: times.get(k, 0.0) for k in keys}
+        return {k: self.seconds(k) for k in keys}
 
 
 def _inpaint_key(inpainter: str, source: str) -> str:
@@ -132,7 +157,6 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
         return {**cell, "status": "not run", "reason": "not finished when the report was written (--report-only)"}
     if failed and not out.scores_json.is_file():
         return {**cell, "status": "failed", "reason": failed}
-    process = {}
     try:
         if not out.scores_json.is_file():
             stages.prepare(inpainter, kind.source)
@@ -140,22 +164,21 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
             flags = ["--method", kind.name, "--inpainter", inpainter, "--seed", str(stages.seed), "--device",
                      args.device, "--no-turntable", *_option_flags(options)]  # a cell's pictures are its renders
             flags += ["--steps", str(steps)] if steps else []
-            started = time.perf_counter()
-            run_engine(["complete", "--run", str(stages.run.root), "--out", str(out.root), *flags])
-            process = {"process": round(time.perf_counter() - started, 2)}  # start, imports, CUDA included
+            stages.timed(f"complete-{name}", ["complete", "--run", str(stages.run.root), "--out", str(out.root),
+                                              *flags])
         report = json.loads(out.scores_json.read_text())
-    except EngineError as exc:
+        needs, complete = stages.needs(kind.source, inpainter), stages.seconds(f"complete-{name}")
+    except (EngineError, MissingTime) as exc:
         return {**cell, "status": "failed", "reason": str(exc)}
-    needs = stages.needs(kind.source, inpainter)
     return {**cell, "status": "done", **report["scores"], "gaussians": report["gaussians"],
             "settings": cell_settings(stages, inpainter, kind.source, report),
             "scene_dir": str(stages.scene), "renders": str(out.renders),
             "commit": (report.get("versions") or {}).get("commit"), **hole_ious(stages.run),
-            "seconds": round(sum(needs.values()) + report["seconds"], 1), "stages": needs,
-            "complete_seconds": report["seconds"],
+            "seconds": round(sum(needs.values()) + complete, 1), "stages": needs,
+            "complete_seconds": complete,  # the completion's processes, their start and loading included
             "removed_scores": report["removed_scores"], "oracle_scores": report.get("oracle_scores"),
             "unavailable": report["unavailable"],
-            "phases": report.get("phases", {}) | process}
+            "phases": report.get("phases", {}) | {"process": complete}}
 
 
 BASE_KEYS = ("preset", "steps", "max_gaussians", "resolution", "sh_degree", "seed")

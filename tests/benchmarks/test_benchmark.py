@@ -7,7 +7,10 @@ import argparse
 import json
 import subprocess
 import sys
+import time
 from pathlib import Path
+
+import pytest
 
 from engine.io.image_io import read_png
 
@@ -58,12 +61,13 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     picture = read_png(tmp_path / "pictures" / f"{living_scene.name}.png")
     # region, effects, hole, GT, Init-fsr[warm], FT-fsr(3)[l1] for the tiny scene's 96 px wide views
     assert picture.shape[1] == 6 * 96
-    times = (tmp_path / "work" / living_scene.name / "seed0" / "stage_times.json").read_text()
+    times = sorted(p.name for p in (tmp_path / "work" / living_scene.name / "seed0" / "times").iterdir())
+    assert len(times) == 6  # one process each: train, remove, holes, inpaint-fsr and the two cells' completions
     # resumed, one after the other (the first ran as Ray tasks): finished cells and stages are not run again
     second = benchmark(living_scene, tmp_path, "--scheduler", "serial")
     assert second.returncode == 0, second.stderr[-2000:]
     assert (tmp_path / "tables.md").read_text() == table
-    assert (tmp_path / "work" / living_scene.name / "seed0" / "stage_times.json").read_text() == times
+    assert sorted(p.name for p in (tmp_path / "work" / living_scene.name / "seed0" / "times").iterdir()) == times
     assert "2/4" in second.stdout and "tables:" in second.stdout
     report = benchmark(living_scene, tmp_path, "--report-only", seeds=("0", "1"))  # runs nothing for seed 1
     assert report.returncode == 0, report.stderr[-2000:]
@@ -86,6 +90,34 @@ def test_the_direct_baseline_inpaints_without_waiting_for_the_hole_masks(living_
     assert not stages.run.holes.root.exists() and "holes" not in stages.times
     stages.prepare("fsr", "removed")
     assert stages.run.holes.root.is_dir() and stages.run.inpainted("fsr", "removed").root.is_dir()
+    # each kind of cell is charged the stages it runs, every one of them timed
+    assert set(stages.needs("input", "fsr")) == {"train", "remove", "inpaint-direct-fsr"}
+    assert set(stages.needs("removed", "fsr")) == {"train", "remove", "holes", "inpaint-fsr"}
+    assert all(s > 0 for s in stages.needs("removed", "fsr").values())
+
+
+def test_a_stage_time_is_never_lost_or_silently_zero(tmp_path: Path, monkeypatch):
+    """A stage that failed and ran again counts both processes; a stage on disk that no process timed is an error
+    naming it, not 0 s."""
+    from addon.engine_call import EngineError
+    from benchmarks import matrix_stages
+    from benchmarks.matrix_stages import MissingTime, Stages
+
+    stages = Stages(tmp_path / "scene", 0, tmp_path, argparse.Namespace())
+    outcomes = iter([EngineError("first try failed"), None])
+
+    def engine(args):
+        time.sleep(0.05)
+        if (error := next(outcomes)) is not None:
+            raise error
+
+    monkeypatch.setattr(matrix_stages, "run_engine", engine)
+    with pytest.raises(EngineError):
+        stages.timed("holes", ["holes"])
+    stages.timed("holes", ["holes"])
+    assert stages.seconds("holes") >= 0.1 and len(list(stages.times_dir.glob("holes.*.json"))) == 2
+    with pytest.raises(MissingTime, match="'inpaint-fsr'"):
+        stages.seconds("inpaint-fsr")
 
 
 def test_cells_that_continue_from_the_base_run_take_the_short_steps_and_the_scratch_ones_the_complete_steps():
