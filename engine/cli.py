@@ -12,6 +12,7 @@ from pathlib import Path
 
 from engine.base.config_cli import Command, add_commands, run_command
 from engine.base.errors import Cancelled, InputError
+from engine.base.requirements import missing_package_line
 from engine.formats.checks import LIMITS
 
 C = "engine.commands."
@@ -93,7 +94,13 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Run one command. Bad input: exit 2 and one line on stderr; a bug: exit 1, one line, and the traceback
     in a file (on stderr with --debug). When stdout is no terminal, C libraries' prints go to stderr."""
-    args = build_parser().parse_args(argv)
+    try:
+        args = build_parser().parse_args(argv)  # builds every command's options: imports their modules
+    except ModuleNotFoundError as exc:
+        if (line := missing_package_line(exc.name or "")) is None:
+            raise
+        print(f"error: {line}", file=sys.stderr)
+        return 2
     LIMITS.pixels, LIMITS.gaussians = args.limit_pixels, args.limit_gaussians
     debug = args.debug or os.environ.get("SPLATFILL_DEBUG") == "1"
     with contextlib.nullcontext() if sys.stdout.isatty() else json_only_stdout():
@@ -114,13 +121,24 @@ def _run(args: argparse.Namespace, debug: bool) -> int:
     except Cancelled as exc:
         print(f"cancelled: {exc}", file=sys.stderr)
         return 130
-    except Exception as exc:  # a bug of ours: one line, the traceback kept for the report
-        if debug:
-            traceback.print_exc()
-        print(f"error: internal error: {type(exc).__name__}: {one_line(str(exc))[:300]} (traceback in "
-              f"{write_traceback()}; please report it)", file=sys.stderr)
-        return 1
+    except ModuleNotFoundError as exc:  # a declared package not installed: not a bug of ours
+        if (line := missing_package_line(exc.name or "")) is None:
+            return _internal_error(debug)
+        print(f"error: {line}", file=sys.stderr)
+        return 2
+    except Exception:
+        return _internal_error(debug)
     return 0
+
+
+def _internal_error(debug: bool) -> int:
+    """A bug of ours: one line, the traceback kept for the report."""
+    exc = sys.exc_info()[1]
+    if debug:
+        traceback.print_exc()
+    print(f"error: internal error: {type(exc).__name__}: {one_line(str(exc))[:300]} (traceback in "
+          f"{write_traceback()}; please report it)", file=sys.stderr)
+    return 1
 
 
 def one_line(text: str) -> str:

@@ -25,22 +25,49 @@ def test_bad_options_end_in_one_line_and_status_2(tmp_path: Path, args: list[str
 
 
 @pytest.mark.fast
-def test_every_setting_of_every_stage_says_what_it_means_in_help():
-    """--help shows each config field's comment; a field without one would show a bare default."""
-    from engine.base.config_cli import field_help
-    from engine.complete.run import CompleteConfig
-    from engine.convert.import_splat import ImportConfig
-    from engine.edit.holes import HoleConfig
-    from engine.edit.removal import RemovalConfig
-    from engine.inpaint.run import InpaintConfig
+def test_every_setting_of_every_command_says_what_it_means_in_help():
+    """--help shows each config field's comment; a field without one would show a bare default. Every command of
+    the table, and the scores' settings the completion passes on."""
+    from engine.base.config_cli import field_help, load
+    from engine.cli import COMMANDS
     from engine.metrics.scores import ScoreConfig
-    from engine.pictures.turntable import TurntableConfig
-    from engine.segment.run import SegmentConfig
-    from engine.train.config import TrainConfig
 
-    configs = (TrainConfig, RemovalConfig, HoleConfig, InpaintConfig, CompleteConfig, SegmentConfig, ImportConfig,
-               TurntableConfig, ScoreConfig)
+    configs = [load(c.config) for c in COMMANDS] + [ScoreConfig]
     bare = {c.__name__: [n for n, text in field_help(c).items() if not text] for c in configs}
     assert not {k: v for k, v in bare.items() if v}, f"fields without a one-line meaning: {bare}"
     assert "every Nth step" in subprocess.run([sys.executable, "-m", "engine", "train", "--help"], cwd=REPO,
                                               capture_output=True, text=True).stdout
+
+
+@pytest.mark.fast
+def test_the_parser_is_the_table():
+    """One entry a command: each sub-command the parser knows is a row of engine.cli.COMMANDS, with its summary."""
+    from engine.cli import COMMANDS, build_parser
+
+    sub = next(a for a in build_parser()._actions if a.dest == "command")
+    assert list(sub.choices) == [c.name for c in COMMANDS]
+    assert {a.dest: a.help for a in sub._choices_actions} == {c.name: c.summary for c in COMMANDS}
+
+
+def test_a_declared_package_that_is_missing_is_named_with_its_install_line(living_scene: Path):
+    """Not "internal error ... please report it": the package and the command that installs it, status 2."""
+    code = ("import sys; sys.modules['OpenImageIO'] = None; from engine.cli import main; "
+            f"sys.exit(main(['info', '--scene', {str(living_scene)!r}]))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO)
+    assert proc.returncode == 2, proc.stderr
+    line = proc.stderr.strip().splitlines()[-1]
+    assert "package OpenImageIO" in line and "pip install 'OpenImageIO==" in line and "internal" not in line
+
+
+@pytest.mark.fast
+def test_an_opencv_without_contrib_is_refused_by_the_inpainters_that_need_it(monkeypatch):
+    import cv2
+
+    from engine.base.errors import InputError
+    from engine.inpaint.registry import create
+
+    create("fsr")
+    monkeypatch.delattr(cv2, "xphoto")
+    with pytest.raises(InputError, match="fsr inpainter needs OpenCV's contrib.*opencv-contrib-python-headless=="):
+        create("fsr")
+    create("telea")  # the core OpenCV inpainters still work

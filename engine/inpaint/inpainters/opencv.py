@@ -7,7 +7,9 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from engine.base.errors import InputError
 from engine.base.plugins import Needs
+from engine.base.requirements import pinned
 from engine.inpaint.registry import Inpainter, register
 
 RADIUS = 5  # px of neighbourhood Telea and Navier-Stokes look at
@@ -38,6 +40,20 @@ class NavierStokes(OpenCvInpainter):
         return cv2.inpaint(image, mask.astype(np.uint8), RADIUS, cv2.INPAINT_NS)
 
 
+class XphotoInpainter(OpenCvInpainter):
+    """cv2.xphoto comes with OpenCV's contrib modules only: without them (a plain opencv-python install beside
+    ours) the inpainter refuses at once, naming the package, instead of failing inside a view's worker."""
+
+    needs = Needs(packages=("opencv-contrib",))
+
+    def __init__(self, **options) -> None:
+        super().__init__(**options)
+        if not hasattr(cv2, "xphoto"):
+            raise InputError(f"the {self.name} inpainter needs OpenCV's contrib modules (cv2.xphoto), which this "
+                             f"OpenCV {cv2.__version__} lacks: pip uninstall -y opencv-python-headless "
+                             f"opencv-python; pip install '{pinned('opencv-contrib-python-headless')}'")
+
+
 def _xphoto(image: np.ndarray, mask: np.ndarray, method: int) -> np.ndarray:
     """cv2.xphoto.inpaint takes the mask the other way round: non-zero marks the *known* pixels."""
     known = (~mask).astype(np.uint8) * 255
@@ -47,22 +63,20 @@ def _xphoto(image: np.ndarray, mask: np.ndarray, method: int) -> np.ndarray:
 
 
 @register("fsr")
-class FrequencySelective(OpenCvInpainter):
+class FrequencySelective(XphotoInpainter):
     """FSR models each block around the hole as a sum of frequencies: its cost grows with the hole, 30 s for a
     108k-pixel hole of a 1 MP view, so a larger hole than max_hole_px is filled downscaled (engine.inpaint.coarse),
     where its smooth fill loses nothing."""
 
     summary = "OpenCV xphoto frequency-selective reconstruction"
-    needs = Needs(packages=("opencv-contrib",))
     max_hole_px = 6000
     def inpaint_rgb(self, image, mask, prompt):
         return _xphoto(image, mask, cv2.xphoto.INPAINT_FSR_FAST)
 
 
 @register("shiftmap")
-class ShiftMap(OpenCvInpainter):
+class ShiftMap(XphotoInpainter):
     summary = "OpenCV xphoto shift-map: texture synthesis by copying patches"
-    needs = Needs(packages=("opencv-contrib",))
     max_hole_px = 6000  # 130 s a 1 MP view at full size
     def inpaint_rgb(self, image, mask, prompt):
         # shift-map works in Lab, as its authors' OpenCV sample does
