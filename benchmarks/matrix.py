@@ -157,13 +157,25 @@ def mark_commits(cells: list[dict], mixed: bool) -> list[dict]:
 
 
 def _hole_line(cells: list[dict], scene: str) -> list[str]:
-    """The scene's hole-mask IoU (mean over its seeds), for the masks that are inpainted and their unseen part."""
-    runs = {c["seed"]: c for c in cells if c["scene"] == scene and c.get("hole_iou") is not None}
+    """The scene's hole masks and removal over every view with a truth (means over its seeds): the masks' IoU as
+    `holes` wrote them, as the inpainting filled them (mean and worst view), their unseen part; the removal's PSNR
+    outside the true hole (mean and worst view)."""
+    runs = [c for c in cells if c["scene"] == scene and c.get("hole_iou") is not None]
     if not runs:
         return []
-    inpainted, unseen = (_mean([c.get(k) for c in runs.values()]) for k in ("hole_iou", "unseen_iou"))
-    return [f"Hole masks, mean IoU against the true holes: {inpainted:.3f} as inpainted"
-            + (f", {unseen:.3f} for their unseen part alone" if unseen is not None else ""), ""]
+    keys = ("hole_iou", "hole_iou_inpainted", "hole_iou_inpainted_worst", "unseen_iou", "removal_psnr_outside",
+            "removal_psnr_outside_worst")
+    m = {k: _mean([c.get(k) for c in runs]) for k in keys}
+    said = [f"Hole masks, mean IoU against the true holes: {m['hole_iou']:.3f} as written"]
+    if m["hole_iou_inpainted"] is not None:
+        said.append(f"{m['hole_iou_inpainted']:.3f} as inpainted (worst view {m['hole_iou_inpainted_worst']:.3f})")
+    if m["unseen_iou"] is not None:
+        said.append(f"{m['unseen_iou']:.3f} for their unseen part alone")
+    line = ", ".join(said)
+    if m["removal_psnr_outside"] is not None:
+        line += (f". Removal, PSNR outside the true hole: {m['removal_psnr_outside']:.2f} dB (worst view "
+                 f"{m['removal_psnr_outside_worst']:.2f})")
+    return [line, ""]
 
 
 def write_results(cells: list[dict], out: Path, mixed: bool = False) -> None:

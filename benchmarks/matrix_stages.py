@@ -173,7 +173,7 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
     return {**cell, "status": "done", **report["scores"], "gaussians": report["gaussians"],
             "settings": cell_settings(stages, inpainter, kind.source, report),
             "scene_dir": str(stages.scene), "renders": str(out.renders),
-            "commit": (report.get("versions") or {}).get("commit"), **hole_ious(stages.run),
+            "commit": (report.get("versions") or {}).get("commit"), **hole_ious(stages.run, inpainter, kind.source),
             "seconds": round(sum(needs.values()) + complete, 1), "stages": needs,
             "complete_seconds": complete,  # the completion's processes, their start and loading included
             "removed_scores": report["removed_scores"], "oracle_scores": report.get("oracle_scores"),
@@ -184,11 +184,17 @@ def run_cell(stages: Stages, method: str, inpainter: str, args: argparse.Namespa
 BASE_KEYS = ("preset", "steps", "max_gaussians", "resolution", "sh_degree", "seed")
 
 
-def hole_ious(run: RunLayout) -> dict:
-    """The hole masks' mean IoU against the scene's true holes: of the masks that are inpainted (`hole_iou`), and
-    of their unseen part alone (`unseen_iou`, which leaves out what the masks add for see-through views)."""
-    holes = _json(run.holes.report)
-    return {"hole_iou": holes.get("mean_iou_vs_truth"), "unseen_iou": holes.get("mean_unseen_iou_vs_truth")}
+def hole_ious(run: RunLayout, inpainter: str, source: str) -> dict:
+    """The hole masks against the scene's true holes, over every view that has them: as `holes` wrote them
+    (`hole_iou`), their unseen part alone (`unseen_iou`, which leaves out what the masks add for see-through
+    views), and as the cell's inpainting filled them, its dilation included (mean and worst view); and the
+    removal's PSNR outside the true hole over every view (mean and worst)."""
+    holes, removal = _json(run.holes.report), _json(run.removed.report)
+    used = _json(run.inpainted(inpainter, source).config_json).get("hole_iou_as_inpainted") or {}
+    outside = removal.get("psnr_outside_hole_every_view") or {}
+    return {"hole_iou": holes.get("mean_iou_vs_truth"), "unseen_iou": holes.get("mean_unseen_iou_vs_truth"),
+            "hole_iou_inpainted": used.get("mean"), "hole_iou_inpainted_worst": used.get("worst"),
+            "removal_psnr_outside": outside.get("mean"), "removal_psnr_outside_worst": outside.get("worst")}
 
 
 def _json(path: Path) -> dict:

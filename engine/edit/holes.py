@@ -60,6 +60,7 @@ from engine.formats.layout import HolesLayout, RemovedLayout, RunLayout
 from engine.io.image_io import exr_name, read_depth, read_png, write_png
 from engine.io.masks import dilate
 from engine.io.visibility import DEFAULT_REL_TOL, farthest_nearby, inside_visual_hull, unseen_mask
+from engine.metrics.image_metrics import mean_and_worst
 from engine.pictures.preview import label, overlay
 from engine.train.trained_run import load_run_scene
 
@@ -185,6 +186,7 @@ def run_holes(config: HoleConfig) -> dict:
         report = {"config": dataclasses.asdict(config), "views": views,
                   "mean_iou_vs_truth": float(np.mean(scored)) if scored else None, "views_scored": len(scored),
                   "mean_unseen_iou_vs_truth": float(np.mean(unseen_scored)) if unseen_scored else None,
+                  "iou_vs_truth": mean_and_worst(scored), "unseen_iou_vs_truth": mean_and_worst(unseen_scored),
                   "support_plane": None if plane is None else [*plane[0].round(5).tolist(), round(plane[1], 5)],
                   "hole_to_region": (float(np.mean([v["hole_px"] / v["region_px"] for v in with_region]))
                                      if with_region else None)}

@@ -61,7 +61,7 @@ from engine.io.image_io import exr_name, write_depth, write_png
 from engine.io.masks import dilate
 from engine.io.ply_io import save_ply
 from engine.io.visibility import inside_visual_hull
-from engine.metrics.image_metrics import psnr
+from engine.metrics.image_metrics import mean_and_worst, psnr
 from engine.pictures.preview import label, overlay
 from engine.render.render_views import render_pictures
 from engine.train.trained_run import TrainedRun, load_run
@@ -172,13 +172,15 @@ def run_removal(config: RemovalConfig) -> dict:
         tmp = RemovedLayout(tmp_root)
         save_ply(tmp.point_cloud, remaining)
         progress = Progress("removal", len(scene.cameras))
-        scores, revealed, sheet = [], [], []
+        scores, everywhere, revealed, sheet = [], [], [], []
         for i, (camera, region, picture) in enumerate(zip(scene.cameras, regions, after, strict=True)):
             write_png(tmp.images / camera.name, picture.rgb)
             write_depth(tmp.depth / exr_name(camera.name), picture.depth)
             write_png(tmp.masks / camera.name, region.astype(np.uint8) * 255)
+            if i in scene.gt_images and i in scene.holes:  # every view with a truth: training views too
+                everywhere.append(_psnr_where(picture.rgb, scene.gt_images[i], ~scene.holes[i]))
             if i in scene.gt_images and i in scene.holes and i in scene.test:
-                scores.append(_psnr_where(picture.rgb, scene.gt_images[i], ~scene.holes[i]))
+                scores.append(everywhere[-1])
                 if (region & ~scene.holes[i]).any():
                     revealed.append(_psnr_where(picture.rgb, scene.gt_images[i], region & ~scene.holes[i]))
             if len(sheet) < 6 and i in scene.test:
@@ -196,7 +198,8 @@ def run_removal(config: RemovalConfig) -> dict:
                   "footprint": footprint.report() if footprint else None,
                   "shadow": shadow.report() if shadow else None,
                   "psnr_outside_hole": float(np.mean(scores)) if scores else None,
-                  "psnr_revealed": float(np.mean(revealed)) if revealed else None, "views_scored": len(scores)}
+                  "psnr_revealed": float(np.mean(revealed)) if revealed else None, "views_scored": len(scores),
+                  "psnr_outside_hole_every_view": mean_and_worst(everywhere)}
         if effects is not None:
             report["effects"] = _write_effects(tmp.effects, scene, remaining, effects, regions, after, device)
         tmp.report.write_text(json.dumps(report, indent=1))

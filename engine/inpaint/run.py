@@ -27,12 +27,14 @@ import torch
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
+from engine.edit.holes import iou
 from engine.edit.support_plane import removal_plane, stop_at_plane
 from engine.formats.cameras import Camera
 from engine.formats.layout import HolesLayout, InpaintedLayout, RemovedLayout, RunLayout
 from engine.inpaint.registry import Inpainter, create
 from engine.io.image_io import exr_name, read_depth, read_png, write_depth, write_png
 from engine.io.masks import dilate
+from engine.metrics.image_metrics import mean_and_worst
 from engine.pictures.preview import colorize_depth, label, overlay
 from engine.train.trained_run import load_run_scene
 
@@ -102,10 +104,20 @@ def run_inpaint(config: InpaintConfig) -> dict:
             if rows:
                 write_png(tmp.sheet_of(split), np.concatenate(rows, axis=0))
         report = {"config": dataclasses.asdict(config), "prompt": prompt, "views": len(scene.cameras),
-                  "inpaint_seconds": round(seconds, 2), "workers": workers, "parallel": parallel}
+                  "inpaint_seconds": round(seconds, 2), "workers": workers, "parallel": parallel,
+                  "hole_iou_as_inpainted": None if direct else inpainted_hole_iou(scene, holes, config.dilate)}
         tmp.config_json.write_text(json.dumps(report, indent=1))
     emit("done", stage="inpaint", out=str(out), seconds=report["inpaint_seconds"])
     return report
+
+
+def inpainted_hole_iou(scene, holes: HolesLayout, dilation: int) -> dict:
+    """IoU against the scene's true holes (holes/, where it has them: every view of a generated scene rendered with
+    --gt all, training views too) of the masks this stage filled, its own dilation included: what the inpainters
+    and the completions that train on their fill were given, not what `holes` wrote."""
+    scores = [iou(dilate(read_png(holes.mask(scene.cameras[i].name), kind="mask") > 0, dilation), truth)
+              for i, truth in sorted(scene.holes.items())]
+    return mean_and_worst(scores)
 
 
 def _workers(config: InpaintConfig, inpainter) -> tuple[int, str]:

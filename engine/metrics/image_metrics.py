@@ -14,6 +14,13 @@ import torch
 import torch.nn.functional as F
 
 
+def mean_and_worst(values: list[float]) -> dict:
+    """A score over views as its mean, its worst (lowest) view and the number of views: a mean alone hides the one
+    view where a stage failed."""
+    return {"mean": float(sum(values) / len(values)) if values else None,
+            "worst": float(min(values)) if values else None, "views": len(values)}
+
+
 def psnr_from_mse(mse: float) -> float:
     """PSNR in dB of images in [0, 1] with mean squared error `mse`."""
     return float("inf") if mse == 0 else 10 * math.log10(1.0 / mse)
