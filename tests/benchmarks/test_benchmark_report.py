@@ -103,11 +103,16 @@ def test_held_out_and_tuning_scenes_are_averaged_apart_and_a_tuning_tool_refuses
     assert summary["all held-out"]["Init-telea"]["m_psnr"] == 19.0 and "all" not in summary
 
 
-def test_a_scene_table_gives_the_hole_iou_of_the_masks_inpainted_before_their_unseen_part(tmp_path: Path):
+def test_a_scene_table_gives_the_hole_masks_as_written_and_as_inpainted_and_the_removal_with_worst_views(
+        tmp_path: Path):
     from benchmarks.matrix import write_results
 
-    write_results([cell("a", "Init-telea", 19.0) | {"hole_iou": 0.54, "unseen_iou": 0.93}], tmp_path)
-    assert "0.540 as inpainted, 0.930 for their unseen part alone" in (tmp_path / "tables.md").read_text()
+    scores = {"hole_iou": 0.54, "unseen_iou": 0.93, "hole_iou_inpainted": 0.5, "hole_iou_inpainted_worst": 0.2,
+              "removal_psnr_outside": 31.0, "removal_psnr_outside_worst": 27.5}
+    write_results([cell("a", "Init-telea", 19.0) | scores], tmp_path)
+    table = (tmp_path / "tables.md").read_text()
+    assert "0.540 as written, 0.500 as inpainted (worst view 0.200), 0.930 for their unseen part alone" in table
+    assert "PSNR outside the true hole: 31.00 dB (worst view 27.50)" in table
 
 
 def test_the_oracles_stand_beside_the_methods_unranked():
