@@ -35,6 +35,11 @@ from engine.formats.layout import RendersLayout  # noqa: E402
 
 TEST_EVERY = 10  # about 90/10 train/test, as in the paper
 EXTRA_TEST = 60  # test-only views beyond those: FID/KID need 50 images a side (engine.metrics.scores)
+# Sizes by name; a flag given on the command line wins over its preset's value. `benchmark`: the held-out table's
+# scenes (docs/BENCHMARKS.md, "Held-out table"): small enough that eight of them render on a 2-core machine well
+# within an hour, with ground truth on every view (hole masks and removal are scored on the training views too)
+# and 50 extra test views for the set metrics.
+PRESETS = {"default": {}, "benchmark": dict(views=40, res=256, samples=8, gt="all", extra_test=50)}
 
 
 @dataclass
@@ -50,11 +55,14 @@ class SceneConfig:
     threads: int = 0
     points: int = 30_000
     extra_test: int = EXTRA_TEST
+    preset: str = "default"
 
 
 def parse_args(argv: list[str]) -> SceneConfig:
     parser = argparse.ArgumentParser(prog="make_scene.py", description=__doc__.split("\n\n")[0])
     parser.add_argument("--family", choices=sorted(FAMILIES), required=True)
+    parser.add_argument("--preset", choices=sorted(PRESETS), default="default",
+                        help="sizes by name (benchmark: the held-out table's); the flags below override it")
     parser.add_argument("--out", required=True, help="new folder for the scene")
     parser.add_argument("--views", type=int, default=SceneConfig.views)
     parser.add_argument("--res", type=int, default=SceneConfig.res, help="image width in pixels (height = 3/4)")
@@ -68,6 +76,8 @@ def parse_args(argv: list[str]) -> SceneConfig:
     parser.add_argument("--extra-test", type=int, default=SceneConfig.extra_test,
                         help="test-only views on an orbit of their own, beyond the 1 in 10 of --views: the set "
                              "metrics' images (0 for a quick scene)")
+    preset = parser.parse_known_args(argv)[0].preset
+    parser.set_defaults(**PRESETS.get(preset, {}))
     args = parser.parse_args(argv)
     if args.views < 2 or args.res < 16 or args.samples < 1 or args.extra_test < 0:
         parser.error("need --views >= 2, --res >= 16, --samples >= 1 and --extra-test >= 0")

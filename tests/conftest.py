@@ -13,7 +13,6 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from filelock import FileLock
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -80,6 +79,8 @@ def make_scene(out: Path, family: str, extra: list[str] = TINY, env: dict | None
 
 def made_once(tmp_path_factory, name: str, make: Callable[[Path], object]) -> Path:
     """`make(folder)` run once per test run, whichever worker asks first; the others wait and read its folder."""
+    from filelock import FileLock  # the engine's environment (tests/blender runs without it)
+
     base = tmp_path_factory.getbasetemp()
     root = (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "made-once"
     root.mkdir(exist_ok=True)
