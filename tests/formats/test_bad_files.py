@@ -220,11 +220,12 @@ def test_the_cli_answers_bad_input_with_exit_2_one_line_and_a_clean_stdout(seeds
 
 def test_an_internal_error_is_one_line_with_the_traceback_in_a_file(monkeypatch, capsys):
     from engine import cli
+    from engine.commands import setup_commands
 
-    def broken(args):
+    def broken(config):
         raise ZeroDivisionError("a bug of ours")
 
-    monkeypatch.setattr(cli, "_version", broken)
+    monkeypatch.setattr(setup_commands, "version", broken)
     assert cli.main(["version"]) == 1
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and err.startswith("error: internal error: ZeroDivisionError: a bug of ours")
