@@ -31,6 +31,8 @@
 #   judge SCENE [REMOVE FLAGS]     base run, remove (with the flags), holes, exemplar, Ref-exemplar; scored by
 #                                  benchmarks/removal_score.py and hole_error.py             ("Removal and its effects")
 #   matrix SCENE... [-- ARGS]      benchmarks/matrix.py's whole matrix (its own defaults, ARGS added)   ("Completion")
+#   heldout SCENE... [-- ARGS]     the held-out table: one matrix process per scene, two a GPU, detached; then
+#                                  `wait` and `heldout-table` (merges them into $OUT/heldout/)    ("Held-out table")
 #   start NAME [ARGS]              any of the above detached (for runs past one call's 10 minutes); its records go
 #                                  to /tmp/gpu/out/NAME, its log to /tmp/gpu/NAME.log
 #   wait SECONDS                   until the detached runs end or SECONDS pass
@@ -52,13 +54,16 @@ EXT=${TORCH_EXTENSIONS_DIR:-/root/.cache/torch_extensions/py312_cu130}
 [ -n "$SPLATFILL_COMMIT" ] || echo "gpu.sh: SPLATFILL_COMMIT is not set: records will name no commit" >&2
 GPUS=$(nvidia-smi -L 2>/dev/null | wc -l); [ "$GPUS" -gt 0 ] || { echo "gpu.sh: no GPU on this machine" >&2; exit 2; }
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-$(( $(nproc) / GPUS ))}  # processes a GPU each must not spin on all cores
+# the held-out table's cells: the four methods with telea and the default inpainter (docs/BENCHMARKS.md)
+HELDOUT_CELLS=${HELDOUT_CELLS:---seeds 0 --methods init reference ft3 direct --inpainters telea fsr}
 
 setup() {
   python3 benchmarks/carry.py join $G/files
-  local wheels=$(ls .whl/*.whl $G/files/*.whl 2>/dev/null)
-  if [ -n "$wheels" ] && [ ! -f $G/.wheels ]; then
-    python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target /tmp/site $wheels &&
-      touch $G/.wheels || exit 1
+  local wheels=() w  # each wheel once per machine: a wheel whose parts all came later is installed then
+  for w in $(ls .whl/*.whl $G/files/*.whl 2>/dev/null); do [ -f $G/.installed.$(basename $w) ] || wheels+=($w); done
+  if [ ${#wheels[@]} -gt 0 ]; then
+    python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target /tmp/site "${wheels[@]}" &&
+      for w in "${wheels[@]}"; do touch $G/.installed.$(basename $w); done || exit 1
   fi
   ls .bench/*/*.tgz.*of* > /dev/null 2>&1 && { mkdir -p $G/parts; cp .bench/*/*.tgz.*of* $G/parts/; }
   [ -d $G/parts ] && python3 benchmarks/unpack_scene.py $G/parts $G/scenes
@@ -116,6 +121,17 @@ case $name in
   matrix) s=(); while [ $# -gt 0 ] && [ "$1" != -- ]; do s+=("$(scene $1)"); shift; done; shift
           d=$(out matrix); python3 scripts/benchmark.py --scenes "${s[@]}" --out $G/matrix --device cuda "$@" 2>&1 | tail -n 30
           cp $G/matrix/*.md $G/matrix/*.csv $G/matrix/*.json $d/ 2>/dev/null; cp $G/matrix/*.png $d/ 2>/dev/null;;
+  heldout) s=(); while [ $# -gt 0 ] && [ "$1" != -- ]; do s+=("$1"); shift; done; shift
+           i=0; date +%s > $G/heldout.start
+           for n in "${s[@]}"; do  # scene k on GPU k mod GPUS: two trainings a GPU, as the matrix measured fastest
+             CUDA_VISIBLE_DEVICES=$(( i % GPUS )) setsid nohup python3 benchmarks/matrix.py --scenes $(scene $n) \
+               --out $G/heldout/$n --device cuda --scheduler serial $HELDOUT_CELLS "$@" > $G/heldout_$n.log 2>&1 < /dev/null &
+             echo $! > $G/heldout_$n.pid; i=$(( i + 1 ))
+           done; sleep 20; tail -n 2 $G/heldout_*.log;;
+  heldout-table) d=$(out heldout); python3 benchmarks/merge_tables.py $d $G/heldout/*/results.json &&
+                 python3 -m engine chart --spec $d/speed_accuracy.json --out $d/speed_accuracy.png
+                 for f in $G/heldout/*/results.json; do n=$(basename $(dirname $f)); cp $f $d/${n}_results.json; done
+                 python3 benchmarks/heldout_wall.py $G/heldout.start $G/heldout > $d/wall.json; cat $d/wall.json;;
   start) tag=$(echo "$*" | tr -c 'A-Za-z0-9_' '_' | cut -c1-48)  # one log and pid per job, several at once
          RESULTS=$G/out setsid nohup bash benchmarks/gpu.sh "$@" > $G/$tag.log 2>&1 < /dev/null &
          echo $! > $G/$tag.pid; sleep 5; tail -n 3 $G/$tag.log;;
