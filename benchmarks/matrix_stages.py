@@ -8,6 +8,7 @@ the tables. Every stage skips what is on disk, so either scheduler resumes what 
 from __future__ import annotations
 
 import argparse
+import glob
 import json
 import os
 import shutil
@@ -60,7 +61,7 @@ class Stages:
 
     def seconds(self, key: str) -> float:
         """Every process's seconds of stage `key`, summed; a stage with none recorded is an error naming it."""
-        records = [json.loads(p.read_text()) for p in sorted(self.times_dir.glob(f"{key}.*.json"))]
+        records = [json.loads(p.read_text()) for p in sorted(self.times_dir.glob(f"{glob.escape(key)}.*.json"))]
         if not records:
             raise MissingTime(f"stage {key!r} of {self.root} is on disk but was never timed: delete its folder "
                               "and run the benchmark again")

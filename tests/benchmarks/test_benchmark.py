@@ -61,13 +61,15 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     picture = read_png(tmp_path / "pictures" / f"{living_scene.name}.png")
     # region, effects, hole, GT, Init-fsr[warm], FT-fsr(3)[l1] for the tiny scene's 96 px wide views
     assert picture.shape[1] == 6 * 96
-    times = sorted(p.name for p in (tmp_path / "work" / living_scene.name / "seed0" / "times").iterdir())
+    timed = tmp_path / "work" / living_scene.name / "seed0" / "times"
+    times = sorted(p.name for p in timed.iterdir() if json.loads(p.read_text())["ok"])
     assert len(times) == 6  # one process each: train, remove, holes, inpaint-fsr and the two cells' completions
+    assert [json.loads(p.read_text())["ok"] for p in timed.glob("inpaint-lama.*")] == [False]  # its failure too
     # resumed, one after the other (the first ran as Ray tasks): finished cells and stages are not run again
     second = benchmark(living_scene, tmp_path, "--scheduler", "serial")
     assert second.returncode == 0, second.stderr[-2000:]
     assert (tmp_path / "tables.md").read_text() == table
-    assert sorted(p.name for p in (tmp_path / "work" / living_scene.name / "seed0" / "times").iterdir()) == times
+    assert sorted(p.name for p in timed.iterdir() if json.loads(p.read_text())["ok"]) == times
     assert "2/4" in second.stdout and "tables:" in second.stdout
     report = benchmark(living_scene, tmp_path, "--report-only", seeds=("0", "1"))  # runs nothing for seed 1
     assert report.returncode == 0, report.stderr[-2000:]
@@ -104,7 +106,7 @@ def test_a_stage_time_is_never_lost_or_silently_zero(tmp_path: Path, monkeypatch
     from benchmarks.matrix_stages import MissingTime, Stages
 
     stages = Stages(tmp_path / "scene", 0, tmp_path, argparse.Namespace())
-    outcomes = iter([EngineError("first try failed"), None])
+    outcomes = iter([EngineError("first try failed"), None, None])
 
     def engine(args):
         time.sleep(0.05)
@@ -116,6 +118,8 @@ def test_a_stage_time_is_never_lost_or_silently_zero(tmp_path: Path, monkeypatch
         stages.timed("holes", ["holes"])
     stages.timed("holes", ["holes"])
     assert stages.seconds("holes") >= 0.1 and len(list(stages.times_dir.glob("holes.*.json"))) == 2
+    stages.timed("complete-Init-fsr[warm]", ["complete"])  # a cell's name, glob's brackets in it
+    assert stages.seconds("complete-Init-fsr[warm]") >= 0.05
     with pytest.raises(MissingTime, match="'inpaint-fsr'"):
         stages.seconds("inpaint-fsr")
 
