@@ -124,7 +124,7 @@ case $name in
   heldout) s=(); while [ $# -gt 0 ] && [ "$1" != -- ]; do s+=("$1"); shift; done; shift
            i=0; date +%s > $G/heldout.start
            for n in "${s[@]}"; do  # scene k on GPU k mod GPUS: two trainings a GPU, as the matrix measured fastest
-             CUDA_VISIBLE_DEVICES=$(( i % GPUS )) setsid nohup python3 benchmarks/matrix.py --scenes $(scene $n) \
+             CUDA_VISIBLE_DEVICES=$(( i % GPUS )) setsid nohup python3 scripts/benchmark.py --scenes $(scene $n) \
                --out $G/heldout/$n --device cuda --scheduler serial $HELDOUT_CELLS "$@" > $G/heldout_$n.log 2>&1 < /dev/null &
              echo $! > $G/heldout_$n.pid; i=$(( i + 1 ))
            done; sleep 20; tail -n 2 $G/heldout_*.log;;

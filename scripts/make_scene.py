@@ -39,7 +39,7 @@ EXTRA_TEST = 60  # test-only views beyond those: FID/KID need 50 images a side (
 # scenes (docs/BENCHMARKS.md, "Held-out table"): small enough that eight of them render on a 2-core machine well
 # within an hour, with ground truth on every view (hole masks and removal are scored on the training views too)
 # and 50 extra test views for the set metrics.
-PRESETS = {"default": {}, "benchmark": dict(views=48, res=320, samples=16, gt="all", extra_test=50)}
+PRESETS = {"default": {}, "benchmark": dict(views=48, res=320, samples=8, gt="all", extra_test=50)}
 
 
 @dataclass
