@@ -31,8 +31,8 @@
 #   judge SCENE [REMOVE FLAGS]     base run, remove (with the flags), holes, exemplar, Ref-exemplar; scored by
 #                                  benchmarks/removal_score.py and hole_error.py             ("Removal and its effects")
 #   matrix SCENE... [-- ARGS]      benchmarks/matrix.py's whole matrix (its own defaults, ARGS added)   ("Completion")
-#   heldout SCENE... [-- ARGS]     the held-out table: one matrix process per scene, two a GPU, detached; then
-#                                  `wait` and `heldout-table` (merges them into $OUT/heldout/)    ("Held-out table")
+#   heldout SCENE... [-- ARGS]     the held-out table: one matrix process per scene, two a GPU (HELDOUT_CELLS's cells,
+#                                  ARGS added), then their tables merged into $OUT/heldout/       ("Held-out table")
 #   start NAME [ARGS]              any of the above detached (for runs past one call's 10 minutes); its records go
 #                                  to /tmp/gpu/out/NAME, its log to /tmp/gpu/NAME.log
 #   wait SECONDS                   until the detached runs end or SECONDS pass
@@ -122,16 +122,17 @@ case $name in
           d=$(out matrix); python3 scripts/benchmark.py --scenes "${s[@]}" --out $G/matrix --device cuda "$@" 2>&1 | tail -n 30
           cp $G/matrix/*.md $G/matrix/*.csv $G/matrix/*.json $d/ 2>/dev/null; cp $G/matrix/*.png $d/ 2>/dev/null;;
   heldout) s=(); while [ $# -gt 0 ] && [ "$1" != -- ]; do s+=("$1"); shift; done; shift
-           i=0; date +%s > $G/heldout.start
+           d=$(out heldout); i=0; date +%s > $d/start.txt
+           export OMP_NUM_THREADS=$(( $(nproc) / ${#s[@]} > 0 ? $(nproc) / ${#s[@]} : 1 ))  # the cores shared out
            for n in "${s[@]}"; do  # scene k on GPU k mod GPUS: two trainings a GPU, as the matrix measured fastest
-             CUDA_VISIBLE_DEVICES=$(( i % GPUS )) setsid nohup python3 scripts/benchmark.py --scenes $(scene $n) \
-               --out $G/heldout/$n --device cuda --scheduler serial $HELDOUT_CELLS "$@" > $G/heldout_$n.log 2>&1 < /dev/null &
-             echo $! > $G/heldout_$n.pid; i=$(( i + 1 ))
-           done; sleep 20; tail -n 2 $G/heldout_*.log;;
-  heldout-table) d=$(out heldout); python3 benchmarks/merge_tables.py $d $G/heldout/*/results.json &&
-                 python3 -m engine chart --spec $d/speed_accuracy.json --out $d/speed_accuracy.png
-                 for f in $G/heldout/*/results.json; do n=$(basename $(dirname $f)); cp $f $d/${n}_results.json; done
-                 python3 benchmarks/heldout_wall.py $G/heldout.start $G/heldout > $d/wall.json; cat $d/wall.json;;
+             CUDA_VISIBLE_DEVICES=$(( i % GPUS )) python3 scripts/benchmark.py --scenes $(scene $n) --out $G/heldout/$n \
+               --device cuda --scheduler serial $HELDOUT_CELLS "$@" > $G/heldout_$n.log 2>&1 < /dev/null &
+             i=$(( i + 1 ))
+           done; wait
+           for n in "${s[@]}"; do tail -n 1 $G/heldout_$n.log; cp $G/heldout/$n/results.json $d/${n}_results.json; done
+           python3 benchmarks/heldout_wall.py $d/start.txt $G/heldout > $d/wall.json
+           python3 benchmarks/merge_tables.py $d $G/heldout/*/results.json &&
+             python3 -m engine chart --spec $d/speed_accuracy.json --out $d/speed_accuracy.png; cat $d/wall.json;;
   start) tag=$(echo "$*" | tr -c 'A-Za-z0-9_' '_' | cut -c1-48)  # one log and pid per job, several at once
          RESULTS=$G/out setsid nohup bash benchmarks/gpu.sh "$@" > $G/$tag.log 2>&1 < /dev/null &
          echo $! > $G/$tag.pid; sleep 5; tail -n 3 $G/$tag.log;;
