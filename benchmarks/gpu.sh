@@ -129,7 +129,8 @@ case $name in
                --device cuda --scheduler serial $HELDOUT_CELLS "$@" > $G/heldout_$n.log 2>&1 < /dev/null &
              i=$(( i + 1 ))
            done; wait
-           for n in "${s[@]}"; do tail -n 1 $G/heldout_$n.log; cp $G/heldout/$n/results.json $d/${n}_results.json; done
+           for n in "${s[@]}"; do tail -n 1 $G/heldout_$n.log; cp $G/heldout/$n/results.json $d/${n}_results.json
+             cp $G/heldout/$n/pictures/$n.png $d/${n}_views.png 2>/dev/null; done
            python3 benchmarks/heldout_wall.py $d/start.txt $G/heldout > $d/wall.json
            python3 benchmarks/merge_tables.py $d $G/heldout/*/results.json &&
              python3 -m engine chart --spec $d/speed_accuracy.json --out $d/speed_accuracy.png; cat $d/wall.json;;
