@@ -2,8 +2,9 @@
 uses, ground truth on every view): the removal leaves the rest of every view as the truth shows it, the hole masks
 as inpainted overlap the true holes, and the default completion scores above leaving the hole unfilled.
 
-The thresholds come from the spread measured over training seeds 0, 1 and 2 (MEASURED below); measure them again
-with `.venv/bin/python tests/complete/test_default_path_against_truth.py 0 1 2`.
+The thresholds come from the spread measured over training seeds 0, 1 and 2 (MEASURED below); the test runs
+seed 0. Measure them again with `.venv/bin/python tests/complete/test_default_path_against_truth.py 0 1 2` (it prints one line a seed
+to stderr: the stages' threads redirect standard output while C libraries write).
 """
 
 from __future__ import annotations
@@ -21,11 +22,13 @@ sys.path.insert(0, str(REPO))
 SCENE = ["--views", "16", "--res", "96", "--samples", "4", "--seed", "11", "--points", "3000", "--gt", "all",
          "--extra-test", "6"]
 # training seed -> (default completion's m-PSNR, unfilled m-PSNR, hole IoU as inpainted, removal's PSNR outside the
-# true hole over every view), dB and IoU
-MEASURED: dict[int, tuple[float, float, float, float]] = {}
-GAIN = 0.0  # the default completion's m-PSNR above the unfilled hole's, at least
-HOLE_IOU = 0.0  # mean IoU of the masks as inpainted against the true holes, at least
-OUTSIDE = 0.0  # removal's PSNR outside the true hole, mean over every view, at least
+# true hole over every view), dB and IoU, measured at the commit that wrote them (Init-fsr[warm], 2-core CPU)
+MEASURED: dict[int, tuple[float, float, float, float]] = {
+    0: (30.90, 29.87, 0.179, 27.17), 1: (29.90, 28.96, 0.190, 27.09), 2: (29.21, 28.94, 0.161, 26.17)}
+GAIN = 0.0  # the default completion's m-PSNR above the unfilled hole's, more than (measured +0.26 to +1.03 dB)
+HOLE_IOU = 0.12  # mean IoU of the masks as inpainted against the true holes, at least (measured 0.161-0.190)
+OUTSIDE = 25.0  # removal's PSNR outside the true hole, mean over every view, at least (measured 26.17-27.17 dB;
+# with nothing removed, 20.72)
 
 
 def default_path(scene: Path, work: Path, seed: int) -> dict:
@@ -67,11 +70,11 @@ def test_removal_leaves_the_rest_of_every_view_as_the_truth_shows_it(measured):
 
 
 def test_the_masks_as_inpainted_cover_the_true_holes(measured):
-    assert measured["hole_iou"] >= HOLE_IOU, measured
+    assert measured["hole_iou"] >= HOLE_IOU, measured  # no masks at all: 0
 
 
 def test_the_default_completion_scores_above_the_unfilled_hole(measured):
-    assert measured["completed"] - measured["unfilled"] >= GAIN, measured
+    assert measured["completed"] - measured["unfilled"] > GAIN, measured  # no completion at all: 0
 
 
 if __name__ == "__main__":
@@ -83,4 +86,5 @@ if __name__ == "__main__":
     root = Path(tempfile.mkdtemp(prefix="default-path-"))
     make_scene(root / "scene", "livingroom", SCENE)
     for training_seed in map(int, sys.argv[1:] or ["0"]):
-        print(json.dumps({"seed": training_seed, **default_path(root / "scene", root, training_seed)}), flush=True)
+        print(json.dumps({"seed": training_seed, **default_path(root / "scene", root, training_seed)}), file=sys.stderr,
+              flush=True)
