@@ -3,8 +3,8 @@ uses, ground truth on every view): the removal leaves the rest of every view as 
 as inpainted overlap the true holes, and the default completion scores above leaving the hole unfilled.
 
 The thresholds come from the spread measured over training seeds 0, 1 and 2 (MEASURED below); the test runs
-seed 0. Measure them again with `.venv/bin/python tests/complete/test_default_path_against_truth.py 0 1 2` (it prints one line a seed
-to stderr: the stages' threads redirect standard output while C libraries write).
+seed 0. Measure them again with `.venv/bin/python tests/complete/test_default_path_against_truth.py 0 1 2`, which
+prints one line a seed to stderr (the stages' threads redirect standard output while C libraries write).
 """
 
 from __future__ import annotations
