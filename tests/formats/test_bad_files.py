@@ -232,3 +232,36 @@ def test_an_internal_error_is_one_line_with_the_traceback_in_a_file(monkeypatch,
     written = Path(err.split("traceback in ")[1].split(";")[0])
     assert "ZeroDivisionError" in written.read_text()
     written.unlink()
+
+
+@pytest.mark.fast
+def test_captures_in_two_threads_leave_stdout_where_it_was():
+    """Views are read and written in threads: a capture that starts while another is open must not leave fd 1 on
+    the other's temp file when both end (the process's later output would vanish)."""
+    import os
+    import threading
+
+    from engine.base.c_streams import captured_c_output
+
+    before = os.fstat(1)
+    first_in, second_in, first_out = threading.Event(), threading.Event(), threading.Event()
+
+    def first():
+        with captured_c_output():
+            first_in.set()
+            second_in.wait(0.5)  # the second capture starts inside this one, unless it has to wait its turn
+        first_out.set()
+
+    def second():
+        first_in.wait(5)
+        with captured_c_output():
+            second_in.set()
+            first_out.wait(5)  # and ends after it
+
+    threads = [threading.Thread(target=first), threading.Thread(target=second)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join(10)
+    after = os.fstat(1)
+    assert (after.st_dev, after.st_ino) == (before.st_dev, before.st_ino)
