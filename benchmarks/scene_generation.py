@@ -39,6 +39,7 @@ def main() -> int:
     parser.add_argument("--json", help="also write the record here")
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
     from engine.base.versions import code_commit
+    from engine.formats.layout import SceneLayout
 
     given = [k for k in SIZES if getattr(args, k) is not None]
     sizes = [f for k in given for f in (f"--{k.replace('_', '-')}", str(getattr(args, k)))]
@@ -50,7 +51,7 @@ def main() -> int:
             subprocess.run([sys.executable, str(REPO / "scripts" / "make_scene.py"), "--family", family, "--out",
                             str(out), "--seed", str(seed), "--preset", args.preset, *sizes], check=True,
                            stdout=subprocess.DEVNULL)
-            meta = json.loads((out / "scene.json").read_text())
+            meta = json.loads(SceneLayout(out).scene_json.read_text())
             rows.append({"scene": out.name, **{k: meta.get(k) for k in ("family", "seed", *SIZES)},
                          "wall_s": round(time.perf_counter() - start, 1)})
             print(json.dumps(rows[-1]), flush=True)

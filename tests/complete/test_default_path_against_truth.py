@@ -56,10 +56,17 @@ def default_path(scene: Path, work: Path, seed: int) -> dict:
 
 @pytest.fixture(scope="module")
 def measured(tmp_path_factory) -> dict:
+    """Made once per test run (a worker may tear a module's fixtures down between its tests and set them up again)."""
     from tests.conftest import made_once, make_scene
 
     scene = made_once(tmp_path_factory, "scene-livingroom-s11", lambda out: make_scene(out, "livingroom", SCENE))
-    return default_path(scene, tmp_path_factory.mktemp("default-path"), seed=0)
+
+    def run(out: Path) -> None:
+        out.mkdir(parents=True)
+        numbers = default_path(scene, out, seed=0)
+        (out / "measured.json").write_text(json.dumps(numbers))
+
+    return json.loads((made_once(tmp_path_factory, "default-path-s11", run) / "measured.json").read_text())
 
 
 pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("default_path")]
