@@ -24,7 +24,8 @@ BLENDER_ARGS_SEP = --
 BLENDER_ENV =
 endif
 
-# pytest-xdist workers: independent tests run side by side, the shared fixtures made once (tests/conftest.py)
+# pytest-xdist workers: test files run side by side (a file's module fixtures on one worker), the session
+# fixtures made once across them (tests/conftest.py)
 TEST_WORKERS ?= 2
 
 .PHONY: setup demo test test-fast lint
@@ -69,7 +70,7 @@ demo: .venv/.ready $(BLENDER_ENV) $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_W
 	@echo "scores: $(DEMO)/run/complete/Init-fsr[warm]/scores.json, $(DEMO)/run/complete/FT-fsr(3)[l1]/scores.json"
 
 test: .venv/.ready .venv-blender/.ready $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_WEIGHTS) lint
-	$(ENGINE) -m pytest -n $(TEST_WORKERS) --dist loadgroup --durations=15 tests
+	$(ENGINE) -m pytest -n $(TEST_WORKERS) --dist loadfile --durations=15 tests
 	$(BPY) -m pytest --durations=15 tests/blender
 
 # the quick inner loop: unit tests on tiny inputs (no generated scenes, no training runs), under 2 minutes

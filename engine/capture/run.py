@@ -62,9 +62,8 @@ def run_capture(config: CaptureConfig) -> dict:
     for phase, action in (("features", lambda token: _features(photos, names, work, config, token)),
                           ("matches", lambda token: _matches(work, config, token))):
         if phase not in done:
-            emit("phase", stage="capture", phase=phase, images=len(names))
             began = time.perf_counter()
-            _cancellable(action)
+            _cancellable(action, lambda phase=phase: emit("phase", stage="capture", phase=phase, images=len(names)))
             clock[phase] = time.perf_counter() - began
             _mark_done(work, phase)
     began = time.perf_counter()
@@ -120,9 +119,10 @@ def _mark_done(work: Path, phase: str) -> None:
     (work / "done.json").write_text(json.dumps(sorted(_phases_done(work) | {phase})))
 
 
-def _cancellable(action: Callable):
+def _cancellable(action: Callable, started: Callable[[], None]):
     """Run `action(token)` in a worker thread; Ctrl-C or SIGTERM cancels it through pycolmap's token and raises
-    Cancelled once it has stopped (the phases finished so far are kept)."""
+    Cancelled once it has stopped (the phases finished so far are kept). `started` announces the phase once the
+    signal handlers are in place, so a stop sent on seeing it is always caught."""
     import pycolmap
 
     pycolmap.logging.minloglevel = 1  # warnings and errors: the progress lines say the rest
@@ -141,6 +141,7 @@ def _cancellable(action: Callable):
     handlers = {s: signal.signal(s, stop) for s in (signal.SIGINT, signal.SIGTERM)}
     thread = threading.Thread(target=work, daemon=True)
     try:
+        started()
         thread.start()
         while thread.is_alive():
             thread.join(0.2)

@@ -25,7 +25,7 @@ from benchmarks.capture_path import readme_commands
 from engine.pictures.video import count_frames
 from tests.conftest import REPO, make_scene, setup_weight
 
-pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("test_user_path")]  # its photos are made once, on one worker
+pytestmark = pytest.mark.slow
 SIDE = {6: cv2.ROTATE_90_COUNTERCLOCKWISE, 8: cv2.ROTATE_90_CLOCKWISE}  # how a phone stores a portrait photo
 
 

@@ -69,7 +69,7 @@ def measured(tmp_path_factory) -> dict:
     return json.loads((made_once(tmp_path_factory, "default-path-s11", run) / "measured.json").read_text())
 
 
-pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("default_path")]
+pytestmark = pytest.mark.slow
 
 
 def test_removal_leaves_the_rest_of_every_view_as_the_truth_shows_it(measured):

@@ -20,8 +20,6 @@ from engine.io.ply_io import load_ply
 from engine.io.visibility import inside_visual_hull
 from engine.train.trained_run import load_run
 
-pytestmark = pytest.mark.xdist_group("test_removal")  # its module fixture is made once, on one worker
-
 
 @pytest.fixture(scope="module")
 def removed(tiny_run: Path, tmp_path_factory) -> tuple[Path, dict]:

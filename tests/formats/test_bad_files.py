@@ -18,8 +18,6 @@ import pytest
 from engine.base.errors import InputError
 from tests.bad_files import write_seeds
 
-pytestmark = pytest.mark.xdist_group("test_bad_files")  # its module fixture is made once, on one worker
-
 REPO = Path(__file__).resolve().parents[2]
 
 

@@ -9,8 +9,6 @@ import torch
 from engine.base.errors import InputError
 from engine.inpaint.registry import create, names
 
-pytestmark = pytest.mark.xdist_group("test_inpainters")  # its module fixture is made once, on one worker
-
 Y, X = np.mgrid[:72, :96]
 TEXTURE = np.stack([128 + 60 * np.sin(X / 9), 128 + 60 * np.cos(Y / 11), 100 + X + 0 * Y], -1).astype(np.uint8)
 MASK = np.zeros((72, 96), bool)

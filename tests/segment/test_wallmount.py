@@ -14,7 +14,7 @@ import pytest
 
 from tests.conftest import make_scene, setup_weight
 
-pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("test_wallmount")]  # its run is made once, on one worker
+pytestmark = pytest.mark.slow
 
 
 @pytest.fixture(scope="module")
