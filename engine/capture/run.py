@@ -119,7 +119,7 @@ def _mark_done(work: Path, phase: str) -> None:
     (work / "done.json").write_text(json.dumps(sorted(_phases_done(work) | {phase})))
 
 
-def _cancellable(action: Callable, started: Callable[[], None]):
+def _cancellable(action: Callable, started: Callable[[], None] = lambda: None):
     """Run `action(token)` in a worker thread; Ctrl-C or SIGTERM cancels it through pycolmap's token and raises
     Cancelled once it has stopped (the phases finished so far are kept). `started` announces the phase once the
     signal handlers are in place, so a stop sent on seeing it is always caught."""
