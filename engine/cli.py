@@ -54,7 +54,7 @@ COMMANDS = [
                  "images"),
     Command("complete", "complete the scene from the inpainted views and score it",
             "engine.complete.run:CompleteConfig", C + "run_commands:complete", required=("run",), skip=("method",),
-            arguments=C + "run_commands:complete_arguments", from_args=C + "run_commands:complete_config"),
+            arguments="engine.complete.run:add_method_arguments", from_args="engine.complete.run:config_from_args"),
     Command("plugins", "the completion methods and inpainters, with options and needs, as JSON",
             C + "setup_commands:PluginsConfig", C + "setup_commands:plugins"),
     Command("compare", "side-by-side picture: a row per view, a column per folder of renders",

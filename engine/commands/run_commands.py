@@ -3,7 +3,6 @@ completion, and scoring a finished run."""
 
 from __future__ import annotations
 
-import argparse
 import json
 from dataclasses import dataclass
 from pathlib import Path
@@ -49,18 +48,6 @@ def complete(config) -> str:
     else:
         said = f"m-PSNR {scores['m_psnr']} (removed, unfilled: {removed['m_psnr']}), PSNR {scores['psnr']}"
     return f"{report['method']}: {said}, {report['seconds']} s; pictures in {report['out']}"
-
-
-def complete_arguments(parser: argparse.ArgumentParser) -> None:
-    from engine.complete.run import add_method_arguments
-
-    add_method_arguments(parser)
-
-
-def complete_config(args: argparse.Namespace):
-    from engine.complete.run import config_from_args
-
-    return config_from_args(args)
 
 
 @dataclass

@@ -178,9 +178,10 @@ def run_removal(config: RemovalConfig) -> dict:
             write_depth(tmp.depth / exr_name(camera.name), picture.depth)
             write_png(tmp.masks / camera.name, region.astype(np.uint8) * 255)
             if i in scene.gt_images and i in scene.holes:  # every view with a truth: training views too
-                everywhere.append(_psnr_where(picture.rgb, scene.gt_images[i], ~scene.holes[i]))
+                outside = _psnr_where(picture.rgb, scene.gt_images[i], ~scene.holes[i])
+                everywhere.append(outside)
             if i in scene.gt_images and i in scene.holes and i in scene.test:
-                scores.append(everywhere[-1])
+                scores.append(outside)
                 if (region & ~scene.holes[i]).any():
                     revealed.append(_psnr_where(picture.rgb, scene.gt_images[i], region & ~scene.holes[i]))
             if len(sheet) < 6 and i in scene.test:
