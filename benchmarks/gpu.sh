@@ -124,14 +124,14 @@ case $name in
   heldout) s=(); while [ $# -gt 0 ] && [ "$1" != -- ]; do s+=("$1"); shift; done; shift
            d=$(out heldout); i=0; date +%s > $d/start.txt
            export OMP_NUM_THREADS=$(( $(nproc) / ${#s[@]} > 0 ? $(nproc) / ${#s[@]} : 1 ))  # the cores shared out
-           for n in "${s[@]}"; do  # scene k on GPU k mod GPUS: two trainings a GPU, as the matrix measured fastest
+           for n in "${s[@]}"; do  # scene k on GPU k mod GPUS, all at once
              CUDA_VISIBLE_DEVICES=$(( i % GPUS )) python3 scripts/benchmark.py --scenes $(scene $n) --out $G/heldout/$n \
                --device cuda --scheduler serial $HELDOUT_CELLS "$@" > $G/heldout_$n.log 2>&1 < /dev/null &
              i=$(( i + 1 ))
            done; wait
            for n in "${s[@]}"; do tail -n 1 $G/heldout_$n.log; cp $G/heldout/$n/results.json $d/${n}_results.json
              cp $G/heldout/$n/pictures/$n.png $d/${n}_views.png 2>/dev/null; done
-           python3 benchmarks/heldout_wall.py $d/start.txt $G/heldout > $d/wall.json
+           python3 benchmarks/heldout_wall.py $d/start.txt $G/heldout $GPUS > $d/wall.json
            python3 benchmarks/merge_tables.py $d $G/heldout/*/results.json &&
              python3 -m engine chart --spec $d/speed_accuracy.json --out $d/speed_accuracy.png; cat $d/wall.json;;
   start) tag=$(echo "$*" | tr -c 'A-Za-z0-9_' '_' | cut -c1-48)  # one log and pid per job, several at once

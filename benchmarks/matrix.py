@@ -47,7 +47,7 @@ from scripts.blender_entry import script_args
 COLUMNS = [("psnr", "PSNR", max), ("m_psnr", "m-PSNR", max), ("ssim", "SSIM", max), ("m_ssim", "m-SSIM", max),
            ("lpips", "LPIPS", min), ("m_lpips", "m-LPIPS", min),
            ("st_lpips", "ST-LPIPS", min), ("m_st_lpips", "m-ST-LPIPS", min),
-           ("fid", "FID", min), ("m_fid", "m-FID", min),
+           ("psnr_kept", "Kept (dB)", max), ("fid", "FID", min), ("m_fid", "m-FID", min),
            ("kid", "KID", min), ("m_kid", "m-KID", min), ("seconds", "Run time (s)", min),
            ("share_seconds", "Share (s)", min),
            ("gaussians", "Gaussians", None)]

@@ -1,8 +1,8 @@
 """FT-<inpainter>(3 | All): finetune the removed scene into its hole, with the originals frozen for real.
 
 The published code means to freeze the original Gaussians and does not (wrapping them in nn.Parameter again
-re-enables their gradients). Here the Trainer zeroes their gradient rows before every
-optimizer step, so Adam never moves them; a test compares them bit for bit before and after.
+re-enables their gradients). Here they are the Trainer's fixed Gaussians: rendered every step, never parameters,
+so nothing moves them; a test compares them bit for bit before and after.
 
 Start: the removed scene's Gaussians (frozen) plus new ones where the reference views' inpainted depth puts
 the hole's surface: every other hole pixel back-projected, coloured from the inpainted image. Reference
@@ -48,7 +48,7 @@ def reference_views(holes: dict[int, np.ndarray], train: list[int], count: int) 
 
 def hole_gaussians(scene: Scene, holes: dict[int, np.ndarray], depths: dict[int, np.ndarray],
                    inpainted: InpaintedLayout, sh_degree: int, seed: int, stride: int = 2,
-                   opacity: float = 0.5, limit: int = 0) -> Gaussians:
+                   opacity: float = 0.5, limit: int = 0, minimum: int = 4) -> Gaussians:
     """New Gaussians on the inpainted surface (`depths`, one per reference view, largest hole first) of the
     reference views' holes, every `stride`-th pixel, each as wide as half the pixels it stands for (sigma =
     stride / 2 pixels at its depth). Why not 3DGS's nearest-neighbour size: a few hundred points spread over a
@@ -58,7 +58,7 @@ def hole_gaussians(scene: Scene, holes: dict[int, np.ndarray], depths: dict[int,
     A view adds only the points where no earlier view put one (first_seen): FT(All)'s ninety views see the
     same hole, and each seeded all of it again (the full table's statue: 451k Gaussians after a 300k base run,
     FT(All) 5x slower than FT(3)). `limit` > 0 keeps at most that many, earliest views first; the first view
-    always keeps its own."""
+    always keeps its own. Fewer than `minimum` points is an error (FT has nothing to finetune then)."""
     per_view = [_view_points(scene.cameras[i], holes[i], depth, inpainted, stride) for i, depth in depths.items()]
     sigmas = [s for _, _, s in per_view if len(s)]
     spacing = 2 * float(np.median(np.concatenate(sigmas))) if sigmas else 1.0  # the grid's pixel step in 3D
@@ -68,7 +68,7 @@ def hole_gaussians(scene: Scene, holes: dict[int, np.ndarray], depths: dict[int,
     if limit > 0:
         count = max(limit, int(keep[0].sum()))
         points, colors, sizes = points[:count], colors[:count], sizes[:count]
-    if len(points) < 4:
+    if len(points) < minimum:
         raise InputError(f"the reference views' holes hold {len(points)} pixels with inpainted depth: nothing to "
                          "finetune (check RUN/holes and the inpainted depth)")
     return init_from_points(points, colors, sh_degree, opacity, seed, sizes=sizes)
@@ -180,10 +180,9 @@ def finetune_setup(settings: TrainConfig, original: TrainedRun, removed: Removed
     limit = max(budget - len(frozen["means"]), 1) if budget > 0 else 0
     new = hole_gaussians(scene, holes, depths, inpainted, settings.sh_degree, seed, limit=limit)
     new["identity"] = nearest_identity(new["means"], frozen)
-    start = {k: torch.cat([frozen[k].float(), new[k].float()]) for k in PARAM_NAMES}
     config = dataclasses.replace(settings, steps=steps, seed=seed, max_gaussians=0, refine_start=steps + 1,
                                  refine_stop=steps + 1, reset_every=10**9, sh_degree_interval=1)
     objective = FinetuneObjective(holes, refs, depths, perceptual, device, lpips)
     views = [i for i in scene.train if holes[i].any()]
-    return config, {"start": start, "frozen": len(frozen["means"]), "objective": objective, "views": views,
-                    "classifier": copy.deepcopy(original.classifier)}
+    return config, {"start": {k: new[k].float() for k in PARAM_NAMES}, "fixed": frozen, "objective": objective,
+                    "views": views, "classifier": copy.deepcopy(original.classifier)}

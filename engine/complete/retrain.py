@@ -8,12 +8,13 @@ against the original cameras.
 --warm (the default; --no-warm is the paper's from-scratch variant): the new scene starts from what the base
 run already knows instead of the sparse points: the removed scene's Gaussians (the base run without the object)
 and the base run's identity classifier, and trains for a tenth of the base run's steps unless --steps says
-otherwise. Everything still trains (nothing is frozen, unlike FT), on the same images as the paper's from-scratch
-variant, so the object's region is learnt from the inpainted views alone; what the start saves is relearning the
-rest of the scene. The results name it (Init-<inpainter>[warm]). Why the default: on the GPU (640x480/100 views,
-exemplar, one training a family) it scored higher m-SSIM in all six cells of livingroom and statue (Init, Ref,
-Direct), higher m-PSNR in five (+0.09 to +0.56 dB; Ref on the statue -0.02), in 34-42 s less per cell; on the
-tiny CPU livingroom +0.7 to +1.2 dB m-PSNR. Torch-free at the top, like every plug-in (engine.complete.registry).
+otherwise. Only what renders into the hole trains (the removed scene's Gaussians there and new ones seeded on
+the hole's inpainted surface); the rest is fixed, so outside the hole every view renders as the removed scene
+does (engine.complete.warm_start, engine.complete.hole_region). The results name it (Init-<inpainter>[warm]). Why
+the default: on the GPU (640x480/100 views, exemplar, one training a family), before the rest was fixed, it scored
+higher m-SSIM in all six cells of livingroom and statue (Init, Ref, Direct), higher m-PSNR in five (+0.09 to
++0.56 dB; Ref on the statue -0.02), in 34-42 s less per cell. Torch-free at the top, like every plug-in
+(engine.complete.registry).
 """
 
 from __future__ import annotations
@@ -27,8 +28,9 @@ from engine.complete.registry import CompletionMethod, Option
 RECOLMAP = Option("recolmap", False, "re-estimate poses and points from the inpainted images with pycolmap "
                   "(the paper's COLMAP ablation; init and direct)")
 WARM = Option("warm", True, "start from the removed scene's Gaussians and the base run's classifier instead of "
-              "the sparse points, for a tenth of the base run's steps unless --steps is given; --no-warm trains "
-              "from scratch as the paper does (init, direct, reference)")
+              "the sparse points and train only what renders into the hole, the rest fixed, for a tenth of the base "
+              "run's steps unless --steps is given; --no-warm trains from scratch as the paper does (init, direct, "
+              "reference)")
 
 
 class NewSceneMethod(CompletionMethod):

@@ -30,9 +30,11 @@ from engine.base.output_dir import atomic_output_dir, check_new_output
 from engine.base.progress import emit
 from engine.base.versions import gpu_name, versions
 from engine.complete.registry import CompletionMethod, all_options, get, methods, resolve_options
-from engine.complete.scoring import score_oracles, score_removed, score_run
+from engine.complete.scoring import psnr_kept, score_oracles, score_removed, score_run
 from engine.complete.training_scene import write_training_scene
 from engine.formats.layout import CompleteLayout, HolesLayout, InpaintedLayout, RemovedLayout, SceneLayout
+from engine.inpaint.run import inpainted_dilation, inpainted_holes
+from engine.io.masks import read_masks
 from engine.metrics.scores import ScoreConfig, Scorer
 from engine.train.run import train
 from engine.train.trained_run import TrainedRun, load_run
@@ -45,7 +47,7 @@ class CompleteConfig:
     inpainter: str = "fsr"  # whose inpainted views to train on
     inpainted: str = ""  # default RUN/inpainted/<inpainter> (direct: RUN/inpainted/direct-<inpainter>)
     removed: str = ""  # default RUN/removed (its removal.json names the object; its renders are the baseline)
-    holes: str = ""  # ft: default RUN/holes
+    holes: str = ""  # ft and --warm: default the holes the inpainting filled, else RUN/holes
     out: str = ""  # default RUN/complete/<Name>
     steps: int = 0  # 0: the training run's own (init, direct) or a tenth of it (ft)
     seed: int = 0  # random seed of the completion's training
@@ -137,10 +139,16 @@ def _job(config: CompleteConfig) -> CompletionJob:
     out = CompleteLayout(config.out) if config.out else run.complete(name)
     _prepare_restart(out, config.resume)
     job = CompletionJob(config=config, method=method, options=options, original=original, removed=removed,
-                        inpainted=inpainted, holes=HolesLayout(config.holes) if config.holes else run.holes,
+                        inpainted=inpainted, holes=_holes(config, inpainted, run.holes),
                         out=out, device=pick_device(config.device))
     method.check(job)
     return job
+
+
+def _holes(config: CompleteConfig, inpainted: InpaintedLayout, default: HolesLayout) -> HolesLayout:
+    """--holes, else the holes the inpainting filled (its config names them), else RUN/holes."""
+    named = config.holes or inpainted_holes(inpainted)
+    return HolesLayout(named) if named else default
 
 
 OWN_NAMES = {"scene", "run", "renders", "turntable", "recolmap.json"}  # what `complete` writes in its folder
@@ -179,12 +187,23 @@ def _turntable(job: CompletionJob) -> Path | None:
                                           device=str(job.device)))
 
 
+def _kept(job: CompletionJob) -> float | None:
+    """PSNR against the removed scene outside the holes as inpainted (engine.complete.scoring.psnr_kept);
+    None where the run has no holes folder."""
+    if not job.holes.root.is_dir():
+        return None
+    scene = job.original.scene
+    grown = read_masks(job.holes.root, scene.cameras, inpainted_dilation(job.inpainted))
+    return psnr_kept(scene, job.out.renders, job.removed, grown)
+
+
 def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | None, clock: dict) -> dict:
     config, out = job.config, job.out
     start = time.perf_counter()
     scorer = Scorer(ScoreConfig(lpips_backbone=config.lpips_backbone, lpips_heads=config.lpips_heads,
                                 fid_weights=config.fid_weights, device=str(job.device)))
     scores = score_run(out.run.root, scorer, renders=out.renders, scene=job.original.scene, removed=job.removed)
+    scores.values["psnr_kept"] = _kept(job)
     baseline = score_removed(job.original.scene, job.removed, scorer)
     name = job.method.title(config.inpainter, job.options)
     settings = {k: v for k, v in dataclasses.asdict(config).items() if k != "options"} | job.options
@@ -202,5 +221,5 @@ def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | Non
     partial.write_text(json.dumps(report, indent=1))
     partial.replace(out.scores_json)  # written last: a folder with scores.json is a finished cell
     emit("done", stage="complete", method=name, out=str(out.root), m_psnr=report["scores"]["m_psnr"],
-         psnr_outside=report["scores"].get("psnr_outside"))
+         psnr_outside=report["scores"].get("psnr_outside"), psnr_kept=report["scores"]["psnr_kept"])
     return report

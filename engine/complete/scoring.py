@@ -109,3 +109,18 @@ def reference_free(renders: list[np.ndarray], photos: list[np.ndarray], outside:
             "m_fid", "m_kid")
     result = {k: None for k in keys} | {"psnr_outside": float(np.mean(values)) if values else None}
     return Scores(values=result, unavailable={k: NO_GT for k in keys})
+
+
+def psnr_kept(scene: Scene, renders: Path, removed: RemovedLayout, holes: dict[int, np.ndarray]) -> float | None:
+    """PSNR of the completed test renders (`renders`) against the removed scene's, outside each view's hole as
+    the inpainting grew it (`holes`), averaged over the test views: how well a completion left alone what it
+    had no reason to touch (engine.complete.hole_region). None without test views."""
+    values = []
+    for i in scene.test:
+        camera = scene.cameras[i]
+        keep = ~holes[i]
+        if keep.any():
+            after = read_png(renders / camera.name, size=camera.size).astype(np.float64)
+            before = read_png(removed.images / camera.name, size=camera.size)
+            values.append(psnr_from_mse(float((((after - before) / 255.0) ** 2)[keep].mean())))
+    return float(np.mean(values)) if values else None

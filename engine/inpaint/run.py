@@ -47,6 +47,11 @@ def inpainted_dilation(inpainted: InpaintedLayout) -> int:
     return json.loads(inpainted.config_json.read_text())["config"].get("dilate", 0)
 
 
+def inpainted_holes(inpainted: InpaintedLayout) -> str:
+    """The holes folder an inpainting run filled (from its config.json; "" where it named none)."""
+    return json.loads(inpainted.config_json.read_text())["config"].get("holes", "")
+
+
 @dataclass
 class InpaintConfig:
     run: str = ""  # the training run (its removed/ and holes/ are inpainted)

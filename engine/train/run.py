@@ -73,7 +73,7 @@ def prepare_run(config: TrainConfig, resume: bool) -> TrainConfig:
 def train(config: TrainConfig, resume: bool = False, plugins: dict | None = None,
           resume_hint: str = "--resume") -> dict:
     """Train a new run, or continue one from its newest checkpoint; returns its metrics. `plugins` are the
-    Trainer's completion plug-ins (start, frozen, objective, views, classifier); a resumed run needs the same ones.
+    Trainer's completion plug-ins (start, fixed, objective, views, classifier); a resumed run needs the same ones.
     `resume_hint` says how to continue after a cancel (a completion's run continues through `complete`)."""
     config = prepare_run(config, resume)
     run = Path(config.out)
@@ -106,7 +106,7 @@ def _loop(trainer: Trainer, run: Path, stop: dict, resume_hint: str) -> None:
         trainer.seconds = time.perf_counter() - start  # wall clock of the loop, checkpoints included
         if step % config.log_every == 0 or step == config.steps:
             progress.update(step, loss=round(float(result.loss), 5), psnr=round(result.psnr, 2),
-                            gaussians=len(trainer.params["means"]))
+                            gaussians=trainer.count)
         if step % config.checkpoint_every == 0 and step < config.steps:
             save_checkpoint(run, trainer, config.keep_checkpoints)
         if stop["signal"] is not None:
@@ -132,7 +132,7 @@ def _finish(trainer: Trainer, scene, run: Path) -> dict:
     start = time.perf_counter()
     metrics = evaluate_views(scene, scene.test, trainer.gaussians, trainer.classifier, trainer.sh_degree,
                              trainer.device)
-    metrics.update(gaussians=len(trainer.params["means"]), steps=trainer.step_index,
+    metrics.update(gaussians=trainer.count, trained_gaussians=len(trainer.params["means"]), steps=trainer.step_index,
                    train_seconds=round(trainer.seconds, 2), eval_seconds=round(time.perf_counter() - start, 2),
                    device=str(trainer.device), gpu=gpu_name(trainer.device), versions=versions(),
                    peak_gpu_mb=(round(torch.cuda.max_memory_allocated() / 2**20, 1)

@@ -87,6 +87,19 @@ def grouping_terms(trainer: Trainer, view: int, out) -> torch.Tensor | float:
     return loss + trainer.strategy.regularisation(trainer.params, cfg)
 
 
+def trained_part(info: dict, fixed: int) -> dict:
+    """The rasterizer's per-Gaussian info for the trained Gaussians alone (the rendered ones after the first
+    `fixed`), as a densification strategy sized to the parameters reads it: its 2D means with their gradient
+    and its radii (packed=False: (cameras, N, ...))."""
+    if not fixed:
+        return info
+    means2d = info["means2d"]
+    trained = means2d.detach()[:, fixed:]
+    if means2d.retains_grad and means2d.grad is not None:  # DefaultStrategy asked for it (MCMC never does)
+        trained.grad = means2d.grad[:, fixed:]
+    return info | {"means2d": trained, "radii": info["radii"][:, fixed:]}
+
+
 class Objective(Protocol):
     needs_depth: bool
 
@@ -97,15 +110,16 @@ class Trainer:
     """Holds the parameters, optimizers and strategy state of one run; `step()` advances it by one view."""
 
     def __init__(self, config: TrainConfig, scene: Scene, device: torch.device, start: Gaussians | None = None,
-                 frozen: int = 0, objective: Objective | None = None, views: list[int] | None = None,
+                 fixed: Gaussians | None = None, objective: Objective | None = None, views: list[int] | None = None,
                  classifier: torch.nn.Linear | None = None) -> None:
-        """`start`: Gaussians to begin from instead of the sparse points, of which the first `frozen` never
-        change (their gradients are zeroed before every optimizer step, so Adam's moments stay zero and the
-        update is exactly zero). `objective` replaces Gaussian Grouping's loss; `views` restricts the
-        training views that are drawn; `classifier` starts from a trained identity classifier instead of a random
-        one. These are the completion methods' plug-ins (engine.complete.finetune)."""
+        """`start`: Gaussians to begin from instead of the sparse points. `fixed`: Gaussians rendered with them
+        every step that never change: they are not parameters, so no optimizer, densification, relocation or
+        position noise reaches them, and the run's scene is both sets (`gaussians`). `objective` replaces
+        Gaussian Grouping's loss; `views` restricts the training views that are drawn; `classifier` starts from
+        a trained identity classifier instead of a random one. These are the completion methods' plug-ins
+        (engine.complete.finetune, engine.complete.hole_region)."""
         self.config, self.scene, self.device = config, scene, device
-        self.frozen = frozen
+        self.fixed = None if fixed is None else {k: fixed[k].float().to(device) for k in PARAM_NAMES}
         self.objective = objective or GroupingObjective()
         self.train_views = views if views is not None else scene.train
         self.strategy: BudgetStrategy | GrowStrategy = make_strategy(config)
@@ -169,24 +183,37 @@ class Trainer:
         self.optimizers["means"].param_groups[0]["lr"] = lr
         view = self._next_view()
         identity = self.masks is not None and step % self.config.identity_every == 0
-        out = render(self.params, self.cameras[view], self.sh_degree, classifier=self.classifier,
+        out = render(self._rendered(), self.cameras[view], self.sh_degree, classifier=self.classifier,
                      depth=self.objective.needs_depth, identity=identity)
         target = self.images[view].float() / 255.0
         loss = self.objective(self, view, out, target)
         self.strategy.step_pre_backward(self.params, self.optimizers, self.strategy_state, step, out.info)
         loss.backward()
-        if self.frozen:
-            for param in self.params.values():
-                if param.grad is not None:
-                    param.grad[: self.frozen] = 0
         adam_step((*self.optimizers.values(), self.classifier_opt))
-        self.strategy.after_backward(self.params, self.optimizers, self.strategy_state, step, out.info, lr)
+        self.strategy.after_backward(self.params, self.optimizers, self.strategy_state, step,
+                                     trained_part(out.info, self.fixed_count), lr)
         self.step_index += 1
         return StepResult(loss=loss.detach(), rgb=out.rgb.detach(), target=target)
 
     @property
+    def fixed_count(self) -> int:
+        return 0 if self.fixed is None else len(self.fixed["means"])
+
+    @property
+    def count(self) -> int:
+        """Gaussians in the run's scene, fixed and trained."""
+        return self.fixed_count + len(self.params["means"])
+
+    def _rendered(self) -> Gaussians | torch.nn.ParameterDict:
+        """What a step renders: the fixed Gaussians first, then the trained ones."""
+        if self.fixed is None:
+            return self.params
+        return {k: torch.cat([self.fixed[k], self.params[k]]) for k in PARAM_NAMES}
+
+    @property
     def gaussians(self) -> Gaussians:
-        return {k: v.detach() for k, v in self.params.items()}
+        """The run's scene: the fixed Gaussians and the trained ones."""
+        return {k: v.detach() for k, v in self._rendered().items()}
 
     @property
     def sh_degree(self) -> int:
@@ -204,18 +231,19 @@ class Trainer:
             "generator": self.generator.get_state(), "torch_rng": torch.get_rng_state(),
             "cuda_rng": torch.cuda.get_rng_state() if self.device.type == "cuda" else None,
             "python_rng": random.getstate(), "regularizer": self.regularizer.state_dict(),
-            "frozen": self.frozen, "objective": type(self.objective).__name__,
+            "fixed": self.fixed_count, "objective": type(self.objective).__name__,
         }
 
     def load_state_dict(self, state: dict) -> None:
-        """Continue from a checkpoint. A completion's run (its own objective, frozen Gaussians) resumes only
-        with the same plug-ins, which `complete --resume` rebuilds; the frozen count travels in the state."""
+        """Continue from a checkpoint. A completion's run (its own objective, fixed Gaussians) resumes only
+        with the same plug-ins, which `complete --resume` rebuilds; the checkpoint holds the trained Gaussians
+        and the count of fixed ones, which must match."""
         objective = state.get("objective", GroupingObjective.__name__)
-        if objective != type(self.objective).__name__:
-            raise InputError(f"this checkpoint was trained with {objective}, not {type(self.objective).__name__}: "
-                             "a completion's run resumes with the same `python -m engine complete` command and "
+        if objective != type(self.objective).__name__ or state.get("fixed", 0) != self.fixed_count:
+            raise InputError(f"this checkpoint was trained with {objective} and {state.get('fixed', 0)} fixed "
+                             f"Gaussians, not {type(self.objective).__name__} and {self.fixed_count}: a "
+                             "completion's run resumes with the same `python -m engine complete` command and "
                              "--resume")
-        self.frozen = state.get("frozen", self.frozen)
         self.step_index, self.seconds = state["step"], state["seconds"]
         self.params = self._parameters(state["params"])
         self.optimizers = {name: self._adam(name, p) for name, p in self.params.items()}

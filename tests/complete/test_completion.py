@@ -268,17 +268,19 @@ def test_a_completion_stopped_before_training_runs_again_with_the_same_command(s
     assert [p.name for p in other.iterdir()] == ["notes.txt"]
 
 
-def test_a_warm_init_starts_from_the_removed_scene_and_trains_a_tenth_of_the_steps(stages, tmp_path):
-    """Init-fsr[warm], the default: the removed scene's Gaussians and the base run's classifier as the start, 100
-    steps (a tenth of the base run's 800, at least 100), and the fill still carried into 3D. Measured on a CPU statue
-    (docs/BENCHMARKS.md): a fifth of the from-scratch run's steps for the same m-PSNR."""
+def test_a_warm_init_trains_only_what_renders_into_the_hole_and_leaves_the_rest_as_removal_left_it(stages, tmp_path):
+    """Init-fsr[warm], the default: the removed scene's Gaussians that render into the hole and new ones on its
+    inpainted surface are trained, for a tenth of the base run's steps (100 of 800), with the base run's
+    classifier; every other Gaussian is fixed, bit for bit, so outside the holes (grown by the inpainting's
+    dilation) every view renders as the removed scene does; inside them the renders moved toward the fill."""
     import dataclasses
 
     import torch
 
     from engine.complete.run import CompleteConfig, _job, run_complete
-    from engine.complete.warm_start import warm_setup, within_cap
+    from engine.complete.warm_start import warm_setup
     from engine.io.ply_io import load_ply
+    from engine.render.render_views import render_pictures
     from engine.train.trained_run import load_run
 
     inpainted = fsr_for_ft(stages)
@@ -287,24 +289,46 @@ def test_a_warm_init_starts_from_the_removed_scene_and_trains_a_tenth_of_the_ste
     job = _job(CompleteConfig(method="init", out=str(tmp_path / "setup"), **common))  # the default
     settings, plugins = warm_setup(job, dataclasses.replace(job.original.config))
     removed = load_ply(stages["removed"] / "point_cloud.ply")
+    fixed, start = plugins["fixed"], plugins["start"]
     assert job.options["warm"] and settings.steps == 100 and settings.sh_degree_interval == 1
-    assert torch.equal(plugins["start"]["means"], removed["means"].float())
+    assert 0 < len(start["means"]) and 0.5 * len(removed["means"]) < len(fixed["means"]) < len(removed["means"])
     assert torch.equal(plugins["classifier"].weight, job.original.classifier.weight)
-    top = within_cap(plugins["start"], 10)  # above a budget's cap: the most opaque within it
-    tenth = torch.topk(removed["opacities"].reshape(-1), 10).values.min()
-    assert len(top["means"]) == 10 and top["opacities"].min() >= tenth
 
     out = tmp_path / "warm"
     report = run_complete(CompleteConfig(method="init", out=str(out), options={"warm": True}, **common))
     assert report["method"] == "Init-fsr[warm]" and np.isfinite(report["scores"]["m_psnr"])
     trained = load_run(out / "run")
     assert trained.config.steps == 100
-    after, before = errors_toward(out / "run", with_hole(trained.scene, stages["holes"]), stages["holes"],
+    n = len(fixed["means"])
+    assert all(torch.equal(trained.gaussians[k][:n], fixed[k]) for k in ("means", "scales", "opacities", "sh0"))
+    scene = trained.scene
+    grown = read_masks_grown(stages["holes"], scene.cameras, inpainted)
+    for camera, picture in zip(scene.cameras, render_pictures(trained.gaussians, scene.cameras, trained.sh_degree,
+                                                              "cpu"), strict=True):
+        outside = ~dilate(grown[camera.name], 2)
+        before = read_png(stages["removed"] / "images" / camera.name).astype(float)
+        # measured: 52.9-66.1 dB a view; with every Gaussian trained (the old warm start) the worst view 39.8
+        assert psnr_where(picture.rgb.astype(float), before, outside) > 48, camera.name
+    after, before = errors_toward(out / "run", with_hole(scene, stages["holes"]), stages["holes"],
                                   inpainted / "images", stages["removed"] / "images")
     assert after < before
     with pytest.raises(InputError, match="add --no-warm"):
         run_complete(CompleteConfig(method="init", out=str(tmp_path / "both"), options={"warm": True, "recolmap": True},
                                     **common))
+
+
+def read_masks_grown(holes: Path, cameras, inpainted: Path) -> dict[str, np.ndarray]:
+    """Each view's hole as the inpainting grew it (its config's dilation)."""
+    from engine.formats.layout import InpaintedLayout
+    from engine.inpaint.run import inpainted_dilation
+
+    pixels = inpainted_dilation(InpaintedLayout(inpainted))
+    return {c.name: dilate(read_png(holes / c.name, kind="mask") > 0, pixels) for c in cameras}
+
+
+def psnr_where(a: np.ndarray, b: np.ndarray, keep: np.ndarray) -> float:
+    mse = float((((a - b) / 255.0) ** 2)[keep].mean())
+    return 10 * np.log10(1 / max(mse, 1e-12))
 
 
 def test_a_later_reference_view_seeds_only_where_earlier_ones_left_space():

@@ -100,6 +100,31 @@ def test_a_budget_caps_the_number_of_gaussians(living_scene: Path, tmp_path: Pat
     assert fit_on_train_views(trainer, scene)[0] > 18.0
 
 
+@pytest.mark.parametrize("budget", [0, 1])
+def test_fixed_gaussians_render_with_the_trained_ones_and_nothing_moves_them(living_scene: Path, tmp_path: Path,
+                                                                              budget: int):
+    """A completion's fixed Gaussians (engine.complete.hole_region): rendered every step, never trained, never
+    densified, pruned, relocated or noised, under either strategy (budget 0: DefaultStrategy, which reads the
+    rasterizer's per-Gaussian gradients; else MCMC capped at what the fixed ones leave); the run's scene is both."""
+    from engine.io.gaussians import init_from_points
+
+    scene = load_scene(living_scene)
+    half = len(scene.points) // 2
+    fixed = init_from_points(scene.points[:half], scene.colors[:half], sh_degree=1, init_opacity=0.02, seed=1)
+    start = init_from_points(scene.points[half:], scene.colors[half:], sh_degree=1, init_opacity=0.5, seed=2)
+    cap = budget and len(start["means"]) + 200
+    trainer = Trainer(tiny_config(living_scene, tmp_path, steps=60, refine_start=10, refine_every=10,
+                                  max_gaussians=cap), scene, CPU, start=start, fixed=fixed)
+    for _ in range(trainer.config.steps):
+        trainer.step()
+    n = len(fixed["means"])
+    assert all(torch.equal(trainer.gaussians[k][:n], fixed[k]) for k in fixed)  # faint ones too: never relocated
+    assert trainer.count == n + len(trainer.params["means"]) == len(trainer.gaussians["means"])
+    assert len(trainer.params["means"]) != len(start["means"])  # the trained ones densified
+    if cap:
+        assert len(trainer.params["means"]) == cap
+
+
 def test_a_resumed_run_reaches_the_same_state_as_an_uninterrupted_one(living_scene: Path, tmp_path: Path):
     changes = dict(steps=20, checkpoint_every=10, keep_checkpoints=5, refine_start=5, refine_every=5)
     whole = train(tiny_config(living_scene, tmp_path / "whole", **changes))
