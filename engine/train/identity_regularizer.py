@@ -44,6 +44,8 @@ class IdentityRegularizer:
              generator: torch.Generator) -> torch.Tensor:
         if self.stale(means, step):
             self.refresh(means, step, generator)
+        if self.neighbours.shape[1] == 0:  # a single Gaussian (a completion's tiny hole) has no neighbour to agree
+            return identity.sum() * 0.0  # with; a mean over none would be NaN and spoil every parameter
         pick = torch.randint(len(self.pool), (min(self.samples, len(self.pool)),), generator=generator)
         pick = pick.to(means.device)
         queries, neighbours = self.pool[pick], self.neighbours[pick]

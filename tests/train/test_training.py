@@ -125,6 +125,21 @@ def test_fixed_gaussians_render_with_the_trained_ones_and_nothing_moves_them(liv
         assert len(trainer.params["means"]) == cap
 
 
+def test_a_single_trained_gaussian_stays_finite(living_scene: Path, tmp_path: Path):
+    """A completion whose hole holds one Gaussian to train: the 3D regulariser has no neighbour for it, and its
+    mean over none made every logged loss NaN."""
+    from engine.io.gaussians import init_from_points
+
+    scene = load_scene(living_scene)
+    fixed = init_from_points(scene.points, scene.colors, sh_degree=1, init_opacity=0.5, seed=1)
+    one = init_from_points(scene.points[:1] + 0.01, scene.colors[:1], sh_degree=1, init_opacity=0.5, seed=2,
+                           sizes=np.array([0.05]))  # as a completion's seeds are sized (engine.complete.finetune)
+    trainer = Trainer(tiny_config(living_scene, tmp_path, steps=10, identity_every=1, reg3d_every=1), scene, CPU,
+                      start=one, fixed=fixed)
+    losses = [float(trainer.step().loss) for _ in range(trainer.config.steps)]
+    assert np.isfinite(losses).all() and all(torch.isfinite(p).all() for p in trainer.params.values())
+
+
 def test_a_resumed_run_reaches_the_same_state_as_an_uninterrupted_one(living_scene: Path, tmp_path: Path):
     changes = dict(steps=20, checkpoint_every=10, keep_checkpoints=5, refine_start=5, refine_every=5)
     whole = train(tiny_config(living_scene, tmp_path / "whole", **changes))
