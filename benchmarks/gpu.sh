@@ -131,6 +131,7 @@ case $name in
            done; wait
            for n in "${s[@]}"; do tail -n 1 $G/heldout_$n.log; cp $G/heldout/$n/results.json $d/${n}_results.json
              cp $G/heldout/$n/pictures/$n.png $d/${n}_views.png 2>/dev/null; done
+           cp /tmp/splatfill-error-*.txt $d/ 2> /dev/null  # internal errors' tracebacks, named in the cells' reasons
            python3 benchmarks/heldout_wall.py $d/start.txt $G/heldout $GPUS > $d/wall.json
            python3 benchmarks/merge_tables.py $d $G/heldout/*/results.json &&
              python3 -m engine chart --spec $d/speed_accuracy.json --out $d/speed_accuracy.png; cat $d/wall.json;;

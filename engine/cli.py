@@ -136,9 +136,21 @@ def _internal_error(debug: bool) -> int:
     exc = sys.exc_info()[1]
     if debug:
         traceback.print_exc()
-    print(f"error: internal error: {type(exc).__name__}: {one_line(str(exc))[:300]} (traceback in "
+    print(f"error: internal error: {type(exc).__name__} at {where(exc)}: {one_line(str(exc))[:300]} (traceback in "
           f"{write_traceback()}; please report it)", file=sys.stderr)
     return 1
+
+
+def where(exc: BaseException) -> str:
+    """The innermost frame of ours (engine/) that the exception passed, and the innermost of all where that
+    differs: the one line a benchmark's record of a failed cell keeps, when the traceback file stays behind
+    on the machine that ran it."""
+    frames = traceback.extract_tb(exc.__traceback__)
+    if not frames:
+        return "?"
+    ours = [f for f in frames if "/engine/" in f.filename.replace("\\", "/")]
+    text = [f"{Path(f.filename).name}:{f.lineno} {f.name}" for f in (ours[-1:] + frames[-1:])]
+    return " > ".join(dict.fromkeys(text))
 
 
 def one_line(text: str) -> str:
