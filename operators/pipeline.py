@@ -34,12 +34,19 @@ def _plugin_items(kind: str) -> list[tuple[str, str, str]]:
             plugins = engine_plugins(engine_settings().python)
         except EngineError as exc:
             return [("", "engine unavailable", str(exc))]
+        defaults = plugins.get("defaults", {})
         if kind == "inpainters":
-            _ITEMS[kind] = [(i["name"], i["name"], f"{i['summary']} (needs: {i['needs']})")
-                            for i in plugins["inpainters"] if i["uses_mask"]]
+            items = [(i["name"], i["name"], f"{i['summary']} (needs: {i['needs']})")
+                     for i in plugins["inpainters"] if i["uses_mask"]]
+            first = defaults.get("inpainter")
         else:
-            _ITEMS[kind] = [(m["name"], m["label"], f"{m['summary']} (needs: {m['needs']})")
-                            for m in plugins["methods"] if m["source"] == "removed"]
+            items = [(m["name"], m["label"], f"{m['summary']} (needs: {m['needs']})")
+                     for m in plugins["methods"] if m["source"] == "removed"]
+            first = defaults.get("method") or (defaults.get("best_on_mean") or [None])[0]
+            items = [(n, label, f"{tip}. {defaults['verdict'].capitalize()}: this is the best held-out mean"
+                      if n == first and not defaults.get("method") and defaults.get("verdict") else tip)
+                     for n, label, tip in items]
+        _ITEMS[kind] = sorted(items, key=lambda item: item[0] != first)  # Blender's default is the first item
     return _ITEMS[kind]
 
 
@@ -221,7 +228,8 @@ class SPLATFILL_OT_inpaint(EngineOperator, bpy.types.Operator):
 class SPLATFILL_OT_complete(EngineOperator, bpy.types.Operator):
     bl_idname = "splatfill.complete"
     bl_label = "Complete"
-    bl_description = "Fill the hole in 3D (FT or Init) from the inpainted views, score it, import the result"
+    bl_description = ("Fill the hole in 3D from the inpainted views, score it, import the result. Optional: no "
+                      "method beat leaving the hole unfilled on every held-out scene (docs/BENCHMARKS.md)")
     method: bpy.props.EnumProperty(name="Method", items=_method_items)
     refs: bpy.props.IntProperty(name="Reference views", default=3, min=0, description="FT: 0 = all")
     perceptual: bpy.props.EnumProperty(name="Perceptual term", default="st-lpips",

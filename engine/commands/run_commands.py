@@ -41,6 +41,8 @@ def complete(config) -> str:
     from engine.complete.run import run_complete
 
     report = run_complete(config)
+    if report["method"] is None:
+        return f"{report['verdict']}: the scene is {report['scene']}; {report['hint']}"
     scores, removed = report["scores"], report["removed_scores"]
     if scores["m_psnr"] is None and scores.get("psnr_outside") is not None:  # a capture: no gt/
         said = (f"PSNR outside the object against the photos {scores['psnr_outside']:.2f} dB (removed, unfilled: "

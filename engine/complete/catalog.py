@@ -4,20 +4,24 @@ and --markdown gives the README's table (a test keeps the README equal to it).""
 
 from __future__ import annotations
 
+from engine.base.defaults import BEST_ON_MEAN, DEFAULT_INPAINTER, DEFAULT_METHOD, VERDICT
 from engine.complete.registry import methods
 from engine.inpaint.registry import classes
 
 
 def describe() -> dict:
-    """{"inpainters": [...], "methods": [...]}, each with its name, summary and needs; methods also with
-    their label, the inpainting they read, their options and their benchmark cells."""
+    """{"inpainters": [...], "methods": [...], "defaults": {...}}, each with its name, summary and needs; methods
+    also with their label, the inpainting they read, their options and their benchmark cells; the defaults the
+    held-out table chose (engine.base.defaults), which the add-on's menus offer first."""
     inpainters = [{"name": name, "summary": cls.summary, "needs": cls.needs.describe(), "uses_mask": cls.uses_mask}
                   for name, cls in classes().items()]
     completion = [{"name": m.name, "label": m.label, "summary": m.summary, "source": m.source,
                    "needs": m.needs.describe(), "cells": m.cells,
                    "options": [{"name": o.name, "default": o.default, "help": o.help, "choices": list(o.choices)}
                                for o in m.options]} for m in methods().values()]
-    return {"inpainters": inpainters, "methods": completion}
+    defaults = {"method": DEFAULT_METHOD, "inpainter": DEFAULT_INPAINTER, "best_on_mean": list(BEST_ON_MEAN),
+                "verdict": VERDICT}
+    return {"inpainters": inpainters, "methods": completion, "defaults": defaults}
 
 
 def markdown_table() -> str:

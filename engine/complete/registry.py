@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar
 
+from engine.base.defaults import BEST_ON_MEAN
 from engine.base.errors import InputError
 from engine.base.plugins import Needs, Registry
 
@@ -67,6 +68,12 @@ class CompletionMethod:
         """(settings, Trainer plug-ins or None) of the training run; by default a new run with the
         original run's settings and step count."""
         return settings, None
+
+
+def fill_hint(run: str) -> str:
+    """The command that fills the hole anyway, with the best held-out mean."""
+    return (f"to fill it anyway: `complete --run {run} --method {BEST_ON_MEAN[0]} --inpainter {BEST_ON_MEAN[1]}` "
+            f"after `inpaint --run {run} --inpainter {BEST_ON_MEAN[1]}` (the best held-out mean m-PSNR)")
 
 
 METHODS: Registry[CompletionMethod] = Registry("method", "engine.complete.methods")

@@ -24,12 +24,13 @@ from pathlib import Path
 import torch
 
 from engine.base.config_cli import add_option
+from engine.base.defaults import DEFAULT_INPAINTER, DEFAULT_METHOD, VERDICT
 from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir, check_new_output
 from engine.base.progress import emit
 from engine.base.versions import gpu_name, versions
-from engine.complete.registry import CompletionMethod, all_options, get, methods, resolve_options
+from engine.complete.registry import CompletionMethod, all_options, fill_hint, get, methods, resolve_options
 from engine.complete.scoring import psnr_kept, score_oracles, score_removed, score_run
 from engine.complete.training_scene import write_training_scene
 from engine.formats.layout import CompleteLayout, HolesLayout, InpaintedLayout, RemovedLayout, SceneLayout
@@ -43,8 +44,8 @@ from engine.train.trained_run import TrainedRun, load_run
 @dataclass
 class CompleteConfig:
     run: str = ""  # the training run to complete
-    method: str = "init"  # init | reference | ft | direct (`engine plugins` lists them)
-    inpainter: str = "fsr"  # whose inpainted views to train on
+    method: str = DEFAULT_METHOD  # init | reference | ft | direct (`engine plugins`); "": leave the hole (VERDICT)
+    inpainter: str = DEFAULT_INPAINTER  # whose inpainted views to train on
     inpainted: str = ""  # default RUN/inpainted/<inpainter> (direct: RUN/inpainted/direct-<inpainter>)
     removed: str = ""  # default RUN/removed (its removal.json names the object; its renders are the baseline)
     holes: str = ""  # ft and --warm: default the holes the inpainting filled, else RUN/holes
@@ -82,7 +83,9 @@ class CompletionJob:
 
 def add_method_arguments(parser: argparse.ArgumentParser) -> None:
     """--method and every registered method's options (the common flags come from CompleteConfig)."""
-    parser.add_argument("--method", default="init", choices=list(methods()), help="(default: init)")
+    parser.add_argument("--method", default=DEFAULT_METHOD, choices=["", *methods()],
+                        help=f"(default: none, {VERDICT})" if not DEFAULT_METHOD
+                        else f"(default: {DEFAULT_METHOD})")
     for option in all_options().values():
         add_option(parser, option.name, option.default, f"{option.help} (default: {option.default})"
                    if isinstance(option.default, bool) else option.help, choices=option.choices)
@@ -94,6 +97,8 @@ def config_from_args(args: argparse.Namespace) -> CompleteConfig:
 
 
 def run_complete(config: CompleteConfig) -> dict:
+    if not config.method:
+        return leave_hole(config)
     loading = time.perf_counter()
     job = _job(config)
     out, original = job.out, job.original
@@ -121,6 +126,18 @@ def run_complete(config: CompleteConfig) -> dict:
     clock["train"] = seconds - clock["scene"]
     clock["train_loop"] = float(metrics.get("train_seconds", 0.0))
     return _score(job, metrics, seconds, colmap, clock)
+
+
+def leave_hole(config: CompleteConfig) -> dict:
+    """The default while no method beats the unfilled hole (VERDICT): nothing is trained or written; the report
+    names the removed scene, which is the result, and how to fill the hole anyway."""
+    run = load_run(config.run).layout
+    removed = RemovedLayout(config.removed) if config.removed else run.removed
+    if not removed.point_cloud.is_file():
+        raise InputError(f"{removed.point_cloud} missing: run `python -m engine remove --run {run.root}` first")
+    report = {"method": None, "verdict": VERDICT, "scene": str(removed.point_cloud), "hint": fill_hint(config.run)}
+    emit("done", stage="complete", method=None, scene=report["scene"], verdict=VERDICT)
+    return report
 
 
 def _job(config: CompleteConfig) -> CompletionJob:

@@ -24,6 +24,7 @@ import cv2
 import numpy as np
 import torch
 
+from engine.base.defaults import DEFAULT_INPAINTER
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
@@ -55,7 +56,7 @@ def inpainted_holes(inpainted: InpaintedLayout) -> str:
 @dataclass
 class InpaintConfig:
     run: str = ""  # the training run (its removed/ and holes/ are inpainted)
-    inpainter: str = "fsr"  # a name from `engine plugins` (fsr, telea, exemplar, lama, ...)
+    inpainter: str = DEFAULT_INPAINTER  # a name from `engine plugins` (telea, fsr, exemplar, lama, ...)
     model: str = ""  # lama: .pt/.onnx (LAMA_MODEL); diffusion: diffusers folder (DIFFUSION_MODEL); nanobanana: name
     depth_range: str = "foreground"  # global | foreground (the paper's two depth representations)
     dilate: int = 0  # px added to the hole masks before inpainting
