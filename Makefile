@@ -62,12 +62,13 @@ demo: .venv/.ready $(BLENDER_ENV) $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_W
 	$(ENGINE) -m engine train --scene $(DEMO)/scene --out $(DEMO)/run --preset tiny --steps $(DEMO_STEPS) --max-gaussians 20000
 	$(ENGINE) -m engine remove --run $(DEMO)/run --object plush
 	$(ENGINE) -m engine holes --run $(DEMO)/run
-	$(ENGINE) -m engine inpaint --run $(DEMO)/run --inpainter fsr --dilate 2
-	$(ENGINE) -m engine complete --run $(DEMO)/run --method init --inpainter fsr
-	$(ENGINE) -m engine complete --run $(DEMO)/run --method ft --refs 3 --inpainter fsr --perceptual l1
+	$(ENGINE) -m engine complete --run $(DEMO)/run
+	$(ENGINE) -m engine inpaint --run $(DEMO)/run --inpainter telea --dilate 2
+	$(ENGINE) -m engine complete --run $(DEMO)/run --method reference --inpainter telea
+	$(ENGINE) -m engine complete --run $(DEMO)/run --method ft --refs 3 --inpainter telea --perceptual l1
 	@echo "scene: $(DEMO)/scene  run: $(DEMO)/run  pictures: $(DEMO)/preview.png, $(DEMO)/run/removed/sheet.png,"
-	@echo "  $(DEMO)/run/holes/sheet.png, $(DEMO)/run/inpainted/fsr/sheet_test.png"
-	@echo "scores: $(DEMO)/run/complete/Init-fsr[warm]/scores.json, $(DEMO)/run/complete/FT-fsr(3)[l1]/scores.json"
+	@echo "  $(DEMO)/run/holes/sheet.png, $(DEMO)/run/inpainted/telea/sheet_test.png"
+	@echo "scores: $(DEMO)/run/complete/Ref-telea[warm]/scores.json, $(DEMO)/run/complete/FT-telea(3)[l1]/scores.json"
 
 test: .venv/.ready .venv-blender/.ready $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_WEIGHTS) lint
 	$(ENGINE) -m pytest -n $(TEST_WORKERS) --dist loadfile --durations=15 tests
