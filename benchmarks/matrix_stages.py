@@ -102,14 +102,14 @@ class Stages:
                    ["inpaint", "--run", str(self.run.root), "--inpainter", inpainter, "--source", source, *dilate])
 
     def prepare(self, inpainter: str, source: str) -> None:
-        self.holes() if source == "removed" else self.base()
+        self.holes()  # Direct too: a warm completion trains only what renders into the hole (hole_region)
         self.inpaint(inpainter, source)
 
     def needs(self, source: str, inpainter: str) -> dict[str, float]:
-        """Seconds of each shared stage a cell depends on: the base run and removal always (Direct paints the
-        input images, but its object regions come from the removal), the hole masks where it inpaints the removed
-        renders, and its inpainting."""
-        keys = ("train", "remove", *(("holes",) if source == "removed" else ()), _inpaint_key(inpainter, source))
+        """Seconds of each shared stage a cell depends on: the base run, the removal (Direct paints the input
+        images, but its object regions come from the removal), the hole masks (what a warm completion may train,
+        and where the removed renders are inpainted) and its inpainting."""
+        keys = ("train", "remove", "holes", _inpaint_key(inpainter, source))
         return {k: self.seconds(k) for k in keys}
 
 

@@ -61,9 +61,9 @@ def test_init_completion_trains_on_the_inpainted_views_and_carries_the_fill_into
     run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="fsr", removed=str(stages["removed"]),
                               holes=str(stages["holes"]), out=str(inpainted), dilate=1))
     out = tmp_path / "Init-fsr"
-    report = run_complete(CompleteConfig(run=str(stages["run"]), inpainted=str(inpainted),
-                                         removed=str(stages["removed"]), out=str(out), device="cpu",
-                                         options={"warm": False}))
+    report = run_complete(CompleteConfig(run=str(stages["run"]), method="init", inpainter="fsr",
+                                         inpainted=str(inpainted), removed=str(stages["removed"]), out=str(out),
+                                         device="cpu", options={"warm": False}))
     assert report["method"] == "Init-fsr" and (out / "scores.json").is_file()
     assert np.isfinite(report["scores"]["m_psnr"]) and np.isfinite(report["removed_scores"]["m_psnr"])
     assert report["scores"]["lpips"] is None and "LPIPS_BACKBONE" in report["unavailable"]["lpips"]
@@ -101,7 +101,8 @@ def test_ref_carries_one_views_fill_into_the_others_holes_and_trains_on_it(stage
     run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="fsr", removed=str(stages["removed"]),
                               holes=str(stages["holes"]), out=str(inpainted)))
     out = tmp_path / "Ref-fsr"
-    report = run_complete(CompleteConfig(run=str(stages["run"]), method="reference", inpainted=str(inpainted),
+    report = run_complete(CompleteConfig(run=str(stages["run"]), method="reference", inpainter="fsr",
+                                         inpainted=str(inpainted),
                                          removed=str(stages["removed"]), holes=str(stages["holes"]), out=str(out),
                                          steps=50, device="cpu", options={"warm": False}))
     assert report["method"] == "Ref-fsr" and np.isfinite(report["scores"]["m_psnr"])
@@ -123,7 +124,8 @@ def test_direct_inpaints_the_object_region_of_the_input_images_and_completes_fro
         assert (filled[~region] == scene.images[i][~region]).all()
         assert not region.any() or (filled[region] != scene.images[i][region]).any()
     out = tmp_path / "direct"
-    report = run_complete(CompleteConfig(run=str(stages["run"]), method="direct", inpainted=str(inpainted),
+    report = run_complete(CompleteConfig(run=str(stages["run"]), method="direct", inpainter="fsr",
+                                         inpainted=str(inpainted),
                                          removed=str(stages["removed"]), out=str(out), device="cpu",
                                          options={"warm": False}))
     assert report["method"] == "Direct-fsr" and np.isfinite(report["scores"]["m_psnr"])
@@ -154,7 +156,7 @@ def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_
     backbone, heads = save_tiny_lpips_weights(tmp_path)
     monkeypatch.setenv("ST_LPIPS_WEIGHTS", str(setup_weight("alex_shift_tolerant.pth")))
     out = tmp_path / "ft"
-    report = run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainted=str(inpainted),
+    report = run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainter="fsr", inpainted=str(inpainted),
                                          removed=str(stages["removed"]), holes=str(stages["holes"]), out=str(out),
                                          options={"refs": refs, "perceptual": perceptual}, steps=150, device="cpu",
                                          lpips_backbone=str(backbone), lpips_heads=str(heads)))
@@ -185,7 +187,8 @@ def test_finetune_without_lpips_weights_says_how_to_go_on(stages, tmp_path, monk
     monkeypatch.delenv("LPIPS_BACKBONE", raising=False)
     monkeypatch.setenv("TORCH_HOME", str(tmp_path))
     with pytest.raises(InputError, match="--perceptual st-lpips or l1"):
-        run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainted=str(fsr_for_ft(stages)),
+        run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainter="fsr",
+                                    inpainted=str(fsr_for_ft(stages)),
                                     removed=str(stages["removed"]), holes=str(stages["holes"]),
                                     options={"perceptual": "lpips"}, out=str(tmp_path / "ft"), device="cpu"))
 
@@ -216,9 +219,9 @@ def test_a_cancelled_finetune_resumes_with_complete_and_keeps_its_frozen_gaussia
     from engine.io.ply_io import load_ply
 
     out = tmp_path / "ft"
-    args = ["--run", str(stages["run"]), "--method", "ft", "--inpainted", str(fsr_for_ft(stages)), "--removed",
-            str(stages["removed"]), "--holes", str(stages["holes"]), "--out", str(out), "--perceptual", "l1",
-            "--steps", "400", "--device", "cpu"]
+    args = ["--run", str(stages["run"]), "--method", "ft", "--inpainter", "fsr", "--inpainted", str(fsr_for_ft(stages)),
+            "--removed", str(stages["removed"]), "--holes", str(stages["holes"]), "--out", str(out),
+            "--perceptual", "l1", "--steps", "400", "--device", "cpu"]
     env = {**os.environ, "SPLATFILL_PROGRESS": "json"}
     proc = subprocess.Popen([sys.executable, "-m", "engine", "complete", *args], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, env=env)
@@ -232,7 +235,8 @@ def test_a_cancelled_finetune_resumes_with_complete_and_keeps_its_frozen_gaussia
     train = subprocess.run([sys.executable, "-m", "engine", "train", "--scene", str(out / "scene"), "--out",
                             str(out / "run"), "--resume"], capture_output=True, text=True, env=env)
     assert train.returncode == 2 and "complete" in train.stderr and "--resume" in train.stderr
-    report = run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainted=str(fsr_for_ft(stages)),
+    report = run_complete(CompleteConfig(run=str(stages["run"]), method="ft", inpainter="fsr",
+                                         inpainted=str(fsr_for_ft(stages)),
                                          removed=str(stages["removed"]), holes=str(stages["holes"]), out=str(out),
                                          options={"perceptual": "l1"}, steps=400, device="cpu",
                                          turntable=False))  # the same command again, no --resume
@@ -253,8 +257,9 @@ def test_a_completion_stopped_before_training_runs_again_with_the_same_command(s
     out = tmp_path / "init"
     (out / "run").mkdir(parents=True)
     (out / ".scene.tmp-999").mkdir()
-    config = CompleteConfig(run=str(stages["run"]), inpainted=str(fsr_for_ft(stages)), removed=str(stages["removed"]),
-                            out=str(out), steps=30, device="cpu", options={"warm": False}, turntable=False)
+    config = CompleteConfig(run=str(stages["run"]), method="init", inpainter="fsr",
+                            inpainted=str(fsr_for_ft(stages)), removed=str(stages["removed"]), out=str(out), steps=30,
+                            device="cpu", options={"warm": False}, turntable=False)
     report = run_complete(config)
     assert (out / "scores.json").is_file() and report["gaussians"] > 0
     assert not list(out.glob(".*.tmp-*"))
