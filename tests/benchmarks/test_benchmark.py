@@ -79,9 +79,9 @@ def test_matrix_runs_records_failures_and_resumes_without_repeating_work(living_
     assert "| Init-fsr[warm] | 1/2 |" in (tmp_path / "stability.md").read_text()
 
 
-def test_the_direct_baseline_inpaints_without_waiting_for_the_hole_masks(living_scene: Path, tmp_path: Path,
-                                                                         monkeypatch):
-    """Its inpainting (the matrix's longest stage) needs the removal only; the other cells' need the masks too."""
+def test_each_kind_of_cell_makes_and_is_charged_the_stages_it_needs(living_scene: Path, tmp_path: Path, monkeypatch):
+    """Direct's inpainting needs the removal only, but its warm completion reads the hole masks, so its cells make
+    them too; the other cells' inpainting needs them first."""
     from benchmarks.matrix_stages import Stages
 
     monkeypatch.setenv("SPLATFILL_ENGINE_PYTHON", sys.executable)
