@@ -47,7 +47,10 @@ class BudgetStrategy(MCMCStrategy):
     def step_post_backward(self, params, optimizers, state, step, info, lr: float) -> None:
         binoms = state["binoms"] = state["binoms"].to(params["means"].device)
         if self.refine_start_iter < step < self.refine_stop_iter and step % self.refine_every == 0:
-            self._relocate_gs(params, optimizers, binoms)
+            if (torch.sigmoid(params["opacities"]) > self.min_opacity).any():
+                # gsplat moves the faint Gaussians onto live ones, sampled from an empty set when none lives (a
+                # warm completion whose hole holds only faint leftovers): on CUDA "invalid argument"
+                self._relocate_gs(params, optimizers, binoms)
             self._add_new_gs(params, optimizers, binoms)
         inject_position_noise(params, lr * self.noise_lr)
 

@@ -140,6 +140,22 @@ def test_a_single_trained_gaussian_stays_finite(living_scene: Path, tmp_path: Pa
     assert np.isfinite(losses).all() and all(torch.isfinite(p).all() for p in trainer.params.values())
 
 
+def test_a_budgeted_run_whose_trained_gaussians_are_all_faint_keeps_going(living_scene: Path, tmp_path: Path):
+    """MCMC relocates the faint (dead) Gaussians onto the live ones; when every trained Gaussian is faint (a warm
+    completion whose hole holds only the removal's faint leftovers) there is none to move them to, and gsplat
+    sampled from an empty set: "CUDA error: invalid argument" in every warm cell of both held-out wall scenes."""
+    from engine.io.gaussians import init_from_points
+
+    scene = load_scene(living_scene)
+    fixed = init_from_points(scene.points, scene.colors, sh_degree=1, init_opacity=0.5, seed=1)
+    faint = init_from_points(scene.points[:20] + 0.01, scene.colors[:20], sh_degree=1, init_opacity=0.001, seed=2)
+    trainer = Trainer(tiny_config(living_scene, tmp_path, steps=30, refine_start=5, refine_every=5,
+                                  max_gaussians=40), scene, CPU, start=faint, fixed=fixed)
+    for _ in range(trainer.config.steps):
+        trainer.step()
+    assert all(torch.isfinite(p).all() for p in trainer.params.values())
+
+
 def test_a_resumed_run_reaches_the_same_state_as_an_uninterrupted_one(living_scene: Path, tmp_path: Path):
     changes = dict(steps=20, checkpoint_every=10, keep_checkpoints=5, refine_start=5, refine_every=5)
     whole = train(tiny_config(living_scene, tmp_path / "whole", **changes))
