@@ -49,6 +49,9 @@ def warm_setup(job, settings: TrainConfig) -> tuple[TrainConfig, dict]:
     cap = max(budget - len(fixed["means"]), len(start["means"])) if budget > 0 else 0
     config = dataclasses.replace(settings.with_steps(job.short_steps()), sh_degree_interval=1, max_gaussians=cap)
     views = [i for i in scene.train if holes[i].any()]
+    if not views:
+        raise InputError(f"no training view has a hole in {job.holes.root}: nothing to complete (the removed scene "
+                         "is the result)")
     return config, {"start": start, "fixed": fixed, "views": views,
                     "classifier": copy.deepcopy(job.original.classifier)}
 
