@@ -56,10 +56,6 @@ def split_at_hole(gaussians: Gaussians, movable: np.ndarray) -> tuple[Gaussians,
             {k: gaussians[k][~keep].float() for k in PARAM_NAMES})
 
 
-def joined(*parts: Gaussians) -> Gaussians:
-    return {k: torch.cat([p[k] for p in parts]) for k in PARAM_NAMES}
-
-
 def check_movable(start: Gaussians, holes_root) -> None:
     if len(start["means"]) == 0:
         raise InputError(f"nothing renders into the holes in {holes_root}: no Gaussian to train there (check "

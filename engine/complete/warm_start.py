@@ -18,10 +18,10 @@ import numpy as np
 
 from engine.base.errors import InputError
 from engine.complete.finetune import hole_gaussians, nearest_identity, reference_views
-from engine.complete.hole_region import check_movable, hole_bound, joined, split_at_hole
+from engine.complete.hole_region import check_movable, hole_bound, split_at_hole
 from engine.formats.layout import InpaintedLayout, RemovedLayout
 from engine.inpaint.run import inpainted_dilation
-from engine.io.gaussians import Gaussians
+from engine.io.gaussians import Gaussians, concat
 from engine.io.image_io import exr_name, read_depth
 from engine.io.masks import read_masks
 from engine.io.ply_io import load_ply
@@ -43,7 +43,7 @@ def warm_setup(job, settings: TrainConfig) -> tuple[TrainConfig, dict]:
     removed = load_ply(job.removed.point_cloud)
     movable, fixed = split_at_hole(removed, hole_bound(removed["means"].numpy(), scene, holes, surfaces))
     seeds = _seeds(job, holes, surfaces, removed, settings.sh_degree)
-    start = joined(movable, seeds)
+    start = concat(movable, seeds)
     check_movable(start, job.holes.root)
     budget = settings.max_gaussians
     cap = max(budget - len(fixed["means"]), len(start["means"])) if budget > 0 else 0

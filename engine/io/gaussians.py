@@ -22,6 +22,11 @@ PARAM_NAMES = ("means", "quats", "scales", "opacities", "sh0", "shN", "identity"
 Gaussians = dict[str, torch.Tensor]
 
 
+def concat(*parts: Gaussians) -> Gaussians:
+    """The parts' Gaussians one after another, in order."""
+    return {k: torch.cat([p[k] for p in parts]) for k in PARAM_NAMES}
+
+
 def rgb_to_sh(rgb: torch.Tensor) -> torch.Tensor:
     return (rgb - 0.5) / SH_C0
 

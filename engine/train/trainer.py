@@ -18,7 +18,7 @@ import torch
 
 from engine.base.errors import InputError
 from engine.capture.scene import Scene
-from engine.io.gaussians import PARAM_NAMES, Gaussians, init_from_points, new_classifier
+from engine.io.gaussians import PARAM_NAMES, Gaussians, concat, init_from_points, new_classifier
 from engine.metrics.image_metrics import psnr_from_mse
 from engine.render.rasterize import CameraTensors, render
 from engine.train.adam_step import AdamState, adam_step
@@ -208,7 +208,7 @@ class Trainer:
         """What a step renders: the fixed Gaussians first, then the trained ones."""
         if self.fixed is None:
             return self.params
-        return {k: torch.cat([self.fixed[k], self.params[k]]) for k in PARAM_NAMES}
+        return concat(self.fixed, self.params)
 
     @property
     def gaussians(self) -> Gaussians:
