@@ -115,12 +115,7 @@ def psnr_kept(scene: Scene, renders: Path, removed: RemovedLayout, holes: dict[i
     """PSNR of the completed test renders (`renders`) against the removed scene's, outside each view's hole as
     the inpainting grew it (`holes`), averaged over the test views: how well a completion left alone what it
     had no reason to touch (engine.complete.hole_region). None without test views."""
-    values = []
-    for i in scene.test:
-        camera = scene.cameras[i]
-        keep = ~holes[i]
-        if keep.any():
-            after = read_png(renders / camera.name, size=camera.size).astype(np.float64)
-            before = read_png(removed.images / camera.name, size=camera.size)
-            values.append(psnr_from_mse(float((((after - before) / 255.0) ** 2)[keep].mean())))
-    return float(np.mean(values)) if values else None
+    cameras = [scene.cameras[i] for i in scene.test]
+    after = [read_png(renders / c.name, size=c.size) for c in cameras]
+    before = [read_png(removed.images / c.name, size=c.size) for c in cameras]
+    return reference_free(after, before, [~holes[i] for i in scene.test]).values["psnr_outside"]
