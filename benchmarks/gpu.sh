@@ -28,8 +28,9 @@
 #   inpaint PHOTOS [VIEWS]         benchmarks/inpaint_speed.py: seconds per 1 MP view, every offline inpainter ("Inpainting")
 #   subject SCENE...               train, segment --auto (scored by benchmarks/segments.py), remove object_1, holes:
 #                                  the subject found and removed without masks                  ("Objects without masks")
-#   judge SCENE [REMOVE FLAGS]     base run, remove (with the flags), holes, exemplar, Ref-exemplar; scored by
-#                                  benchmarks/removal_score.py and hole_error.py             ("Removal and its effects")
+#   judge SCENE [REMOVE FLAGS]     base run, remove (with the flags), holes and a variant of them (JUDGE_VARIANT),
+#                                  each inpainted (JUDGE_INPAINTER) and completed by Ref; scored by removal_score.py,
+#                                  hole_error.py and leftovers.py                            ("Removal and its effects")
 #   matrix SCENE... [-- ARGS]      benchmarks/matrix.py's whole matrix (its own defaults, ARGS added)   ("Completion")
 #   heldout SCENE... [-- ARGS]     the held-out table: one matrix process per scene, two a GPU (HELDOUT_CELLS's cells,
 #                                  ARGS added), then their tables merged into $OUT/heldout/       ("Held-out table")
@@ -78,19 +79,30 @@ setup() {
 scene() { [ -d "$1" ] && echo "$1" || echo $G/scenes/$1; }
 out() { local d=${RESULTS:-${OUT:-$G/out}}/$1; mkdir -p $d; echo $d; }
 
-judge() {  # $1 scene, the rest flags for `engine remove`
-  local S=$(scene $1) J=$G/judge/$1 D=$(out judge); shift; mkdir -p $J
+judge() {  # $1 scene, the rest flags for `engine remove`; JUDGE_INPAINTER (telea), and a second set of hole masks
+  # made with JUDGE_VARIANT's `holes` flags (--no-see-through), each inpainted and completed with Ref
+  local S=$(scene $1) J=$G/judge/$1 D=$(out judge) I=${JUDGE_INPAINTER:-telea} V=${JUDGE_VARIANT:---no-see-through}
+  shift; mkdir -p $J
   local target=$(python3 -c "import json,sys; print(next(o['name'] for o in json.load(open(sys.argv[1])) if o.get('target')))" $S/masks/objects.json)
   [ -f $J/run/point_cloud.ply ] || python3 -m engine train --scene $S --out $J/run --device cuda > $J/train.log 2>&1 || { tail -5 $J/train.log; return 1; }
-  rm -rf $J/run/removed $J/run/holes $J/run/inpainted $J/run/complete
-  { python3 -m engine remove --run $J/run --object "$target" --device cuda "$@" && python3 -m engine holes --run $J/run &&
-    python3 -m engine inpaint --run $J/run --inpainter exemplar &&
-    python3 -m engine complete --run $J/run --method reference --inpainter exemplar --device cuda; } > $J/chain.log 2>&1 || { tail -5 $J/chain.log; return 1; }
-  local name=$(basename $S)
-  python3 benchmarks/removal_score.py $S $J/run/removed --picture $D/${name}_judge.jpg > $D/${name}_judge.txt
-  python3 benchmarks/hole_error.py $S removed=$J/run/removed/images "Ref-exemplar=$J/run/complete/Ref-exemplar[warm]/renders" > $D/${name}_hole_error.txt
-  cp $J/run/metrics.json $D/${name}_base_metrics.json; cp $J/run/removed/removal.json $D/${name}_removal.json
-  cp "$J/run/complete/Ref-exemplar[warm]/scores.json" $D/${name}_ref_exemplar_scores.json; cat $D/${name}_judge.txt
+  rm -rf $J/run/removed $J/run/holes* $J/run/inpainted* $J/run/complete*
+  local name=$(basename $S) R=$J/run
+  { python3 -m engine remove --run $R --object "$target" --device cuda "$@" && python3 -m engine holes --run $R &&
+    python3 -m engine holes --run $R --out $R/holes_variant $V &&
+    python3 -m engine inpaint --run $R --inpainter $I &&
+    python3 -m engine inpaint --run $R --inpainter $I --holes $R/holes_variant --out $R/inpainted_variant &&
+    python3 -m engine complete --run $R --method reference --inpainter $I --device cuda &&
+    python3 -m engine complete --run $R --method reference --inpainter $I --device cuda --inpainted $R/inpainted_variant \
+      --out $R/complete_variant; } > $J/chain.log 2>&1 || { tail -5 $J/chain.log; return 1; }
+  local ref=$(ls -d $R/complete/Ref-*) var=$R/complete_variant
+  python3 benchmarks/removal_score.py $S $R/removed --picture $D/${name}_judge.jpg > $D/${name}_judge.txt
+  python3 benchmarks/hole_error.py $S removed=$R/removed/images "Ref-$I=$ref/renders" "Ref-$I-variant=$var/renders" \
+    --picture $D/${name}_hole_crops.png > $D/${name}_hole_error.txt
+  cp $R/metrics.json $D/${name}_base_metrics.json; cp $R/removed/removal.json $D/${name}_removal.json
+  cp $R/holes/holes.json $D/${name}_holes.json; cp $R/holes_variant/holes.json $D/${name}_holes_variant.json
+  cp $R/removed/sheet.png $D/${name}_removed_sheet.png; cp $R/holes/sheet.png $D/${name}_holes_sheet.png
+  cp $ref/scores.json $D/${name}_ref_scores.json; cp $var/scores.json $D/${name}_ref_variant_scores.json
+  python3 benchmarks/leftovers.py $R $D/${name}_leftovers.json; cat $D/${name}_judge.txt $D/${name}_hole_error.txt
 }
 
 name=$1; shift
