@@ -21,10 +21,12 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+from pathlib import Path
 
 import cv2
 import numpy as np
 
+from engine.edit.support_plane import Footprint
 from engine.formats.cameras import Camera, backproject, project
 from engine.formats.layout import HolesLayout, InpaintedLayout, SceneLayout
 from engine.io.image_io import exr_name, read_depth, read_png, write_png
@@ -36,6 +38,16 @@ ROW = 4096  # points per row of a remap grid (cv2.remap's maps stay under 32767 
 BIG = 3.0e38  # float32 stand-in for 'no surface' in the gap closing
 REL_TOL = 0.1  # a point this far from the view's own depth fill is something else (two fills of one surface
 # differ by a few per cent; an occluder in front of it by far more)
+
+
+@dataclass
+class PlaneFill:
+    """What the plane texture needs (engine.complete.plane_texture): the support plane and footprint `remove`
+    found, and the inpainting's own inpainter."""
+
+    plane: tuple[np.ndarray, float]
+    footprint: Footprint
+    inpainter: object
 
 
 @dataclass
@@ -164,7 +176,8 @@ def carried_surface(camera: Camera, hole: np.ndarray, depth: np.ndarray, ref: Ca
 
 
 def write_reference_fill(scene_dir: SceneLayout, cameras: list[Camera], train: list[int], holes_of: HolesLayout,
-                         inpainted: InpaintedLayout, dilation: int, consensus: bool = True) -> dict:
+                         inpainted: InpaintedLayout, dilation: int, consensus: bool = True,
+                         plane: PlaneFill | None = None) -> dict:
     """Rewrite the training images of `scene_dir` (a completion's training scene) so that every hole
     carries the reference view's fill; returns what was done."""
     fills = {}
@@ -193,5 +206,25 @@ def write_reference_fill(scene_dir: SceneLayout, cameras: list[Camera], train: l
                                    ref.camera, ref.hole, ref.depth, ref.image)
         write_png(path, image)
         carried, total = carried + int(landed.sum()), total + int(view.hole.sum())
-    return {"reference": ref.camera.name, "consensus": consensus, "carried_px": carried, "hole_px": total,
-            "carried_share": round(carried / total, 4) if total else None}
+    report = {"reference": ref.camera.name, "consensus": consensus, "carried_px": carried, "hole_px": total,
+              "carried_share": round(carried / total, 4) if total else None}
+    if plane is not None:
+        report["plane_texture"] = _plane_texture(scene_dir, fills, plane)
+    return report
+
+
+def _plane_texture(scene_dir: SceneLayout, fills: dict[int, ViewFill], plane: PlaneFill) -> dict:
+    """The on-plane part of every view's hole rewritten from the plane's texture (engine.complete.plane_texture),
+    over the carried fill."""
+    from engine.complete.plane_texture import write_plane_texture
+
+    views = list(fills.values())
+    paths = [scene_dir.images / view.camera.name for view in views]
+    images, report, texture = write_plane_texture(
+        [read_png(path, size=view.camera.size) for path, view in zip(paths, views, strict=True)],
+        [view.camera for view in views], [view.hole for view in views], [view.depth for view in views],
+        plane.plane, plane.footprint, plane.inpainter)
+    for path, image in zip(paths, images, strict=True):
+        write_png(path, image)
+    write_png(Path(scene_dir.root) / "plane_texture.png", texture)
+    return report

@@ -69,6 +69,13 @@ class InpaintConfig:
     parallel: str = ""  # threads | processes: how views go at once ("": the inpainter's Inpainter.parallel_views)
 
 
+def inpainted_inpainter(inpainted: InpaintedLayout):
+    """The inpainter an inpainting run used, built as it was (its config.json): to fill more in its manner."""
+    saved = json.loads(inpainted.config_json.read_text())["config"]
+    return _inpainter(InpaintConfig(**{f.name: saved[f.name] for f in dataclasses.fields(InpaintConfig)
+                                       if f.name in saved}))
+
+
 def _inpainter(config: InpaintConfig):
     options = {"depth_range": config.depth_range}
     if config.model:
