@@ -31,6 +31,7 @@ from engine.io.masks import dilate
 RING_PX = (3, 9)  # the band around the object's region whose surfaces may be its support (its edge is blurred)
 HORIZONTAL_SHARE = 0.1  # a level plane needs fewer: cameras' up rules out walls and slanted clutter
 SURROUND_SECTORS, SURROUND_NEED = 8, 5  # a support's points near the object lie in 5 of 8 sectors around it
+SPREAD = 0.25  # ... and spread at least this share of its radius across the plane's narrowest way (not a line)
 WALL_GAP = 0.15  # a wall supports an object whose nearest part stands off it by at most this share of its size
 
 
@@ -167,7 +168,8 @@ def object_support(means: np.ndarray, obj: np.ndarray, up: np.ndarray) -> tuple[
     level, wall = level_support(means, obj, up), wall_support(means, obj, up)
     if wall is None:
         return level
-    if level is None or not surrounds(means, obj, level) or contact_gap(obj, wall) < contact_gap(obj, level):
+    if (level is None or not surrounds(means, obj, level) or not clear_of(obj, level)
+            or abs(contact_gap(obj, wall)) < abs(contact_gap(obj, level))):
         return wall
     return level
 
@@ -209,6 +211,15 @@ def contact_gap(obj: np.ndarray, plane: tuple[np.ndarray, float]) -> float:
     return float(np.percentile(obj @ normal + offset, 2))
 
 
+def clear_of(obj: np.ndarray, plane: tuple[np.ndarray, float], share: float = 0.97) -> bool:
+    """Whether the object lies wholly on one side of the plane (`share` of its core, within 2% of its size): a
+    level plane through a plaque's lower part is no support, however near it is."""
+    normal, offset = _toward(plane, obj)
+    centre = np.median(obj, axis=0)
+    tol = 0.02 * float(np.percentile(np.linalg.norm(obj - centre, axis=1), 95))
+    return bool(((obj @ normal + offset) > -tol).mean() >= share)
+
+
 def surrounds(means: np.ndarray, obj: np.ndarray, plane: tuple[np.ndarray, float]) -> bool:
     """Whether the plane's points near the object (within its size past its outline) lie on all sides of it:
     in SURROUND_NEED of SURROUND_SECTORS sectors about the object's axis along the plane's normal. A support
@@ -225,9 +236,11 @@ def surrounds(means: np.ndarray, obj: np.ndarray, plane: tuple[np.ndarray, float
     a = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
     a /= np.linalg.norm(a)
     b = np.cross(normal, a)
-    angle = np.arctan2(rel[near] @ b, rel[near] @ a)
+    flat = np.stack([rel[near] @ a, rel[near] @ b], axis=1)
+    angle = np.arctan2(flat[:, 1], flat[:, 0])
     sectors = np.unique(((angle + np.pi) / (2 * np.pi) * SURROUND_SECTORS).astype(int) % SURROUND_SECTORS)
-    return len(sectors) >= SURROUND_NEED
+    spread = np.sqrt(np.linalg.eigvalsh(np.cov(flat.T))[0])  # across its narrowest way: a line has none
+    return len(sectors) >= SURROUND_NEED and spread >= SPREAD * radius
 
 
 def wall_support(means: np.ndarray, obj: np.ndarray, up: np.ndarray) -> tuple[np.ndarray, float] | None:
