@@ -32,6 +32,7 @@ RING_PX = (3, 9)  # the band around the object's region whose surfaces may be it
 HORIZONTAL_SHARE = 0.1  # a level plane needs fewer: cameras' up rules out walls and slanted clutter
 SURROUND_SECTORS, SURROUND_NEED = 8, 5  # a support's points near the object lie in 5 of 8 sectors around it
 SPREAD = 0.25  # ... and spread at least this share of its radius across the plane's narrowest way (not a line)
+IN_FRONT = 0.85  # share of the object's core in front of a wall (a plane through the object halves it)
 WALL_GAP = 0.15  # a wall supports an object whose nearest part stands off it by at most this share of its size
 
 
@@ -206,9 +207,10 @@ def _toward(plane: tuple[np.ndarray, float], obj: np.ndarray) -> tuple[np.ndarra
 
 
 def contact_gap(obj: np.ndarray, plane: tuple[np.ndarray, float]) -> float:
-    """How far the object's nearest part (its 2nd percentile) stands off the plane, on the object's side."""
+    """How far the object's nearest part (its 10th percentile) stands off the plane, on the object's side: past
+    what the visual hull took behind a wall or under a table with it."""
     normal, offset = _toward(plane, obj)
-    return float(np.percentile(obj @ normal + offset, 2))
+    return float(np.percentile(obj @ normal + offset, 10))
 
 
 def clear_of(obj: np.ndarray, plane: tuple[np.ndarray, float], share: float = 0.97) -> bool:
@@ -245,8 +247,9 @@ def surrounds(means: np.ndarray, obj: np.ndarray, plane: tuple[np.ndarray, float
 
 def wall_support(means: np.ndarray, obj: np.ndarray, up: np.ndarray) -> tuple[np.ndarray, float] | None:
     """A plane that is not level (engine.geometry.planes.tilted_planes) among the remaining Gaussians within the
-    object's size past its outline, that the object lies wholly in front of (97% of its core), touches (its
-    nearest part within WALL_GAP of its size) and that reaches around it (`surrounds`); the fullest such."""
+    object's size past its outline, that the object lies in front of (IN_FRONT of its core: the visual hull takes
+    Gaussians inside the wall behind a plaque too), touches (its nearest part within WALL_GAP of its size) and
+    that reaches around it (`surrounds`); the fullest such."""
     if len(obj) < 20:
         return None
     centre = np.median(obj, axis=0)
@@ -259,7 +262,7 @@ def wall_support(means: np.ndarray, obj: np.ndarray, up: np.ndarray) -> tuple[np
     for plane in tilted_planes(shell, up, tol, share=0.1, min_radius=0.5 * radius):
         normal, offset = _toward(plane, obj)
         side = obj @ normal + offset
-        if ((side > -2 * tol).mean() >= 0.97 and contact_gap(obj, plane) <= WALL_GAP * 2 * radius
+        if ((side > -2 * tol).mean() >= IN_FRONT and contact_gap(obj, plane) <= WALL_GAP * 2 * radius
                 and surrounds(means, obj, plane)):
             return normal, offset
     return None

@@ -179,7 +179,9 @@ def test_a_wall_mounted_object_hangs_on_the_wall_not_on_a_level_face_beside_it_o
     a picture frame's level top face beside it, a level ledge through the plaque's lower part and a floor far
     below. The support is the wall: with level planes alone it was a level face near the plaque's lower edge (on
     a 300k-Gaussian run; here the ledge), and the hole masks called the wall behind the plaque seen (IoU 0.22);
-    a plane through the object is nearer to it than the wall is, so its side decides too."""
+    a plane through the object is nearer to it than the wall is, so its side decides too. The visual hull also
+    takes Gaussians inside the wall behind the plaque (6% of the object here): still the wall (on the held-out
+    wall scene at b202bf5 the support was again a level plane at the plaque's lower edge)."""
     from engine.edit.support_plane import object_support
 
     rng = np.random.default_rng(5)
@@ -191,8 +193,11 @@ def test_a_wall_mounted_object_hangs_on_the_wall_not_on_a_level_face_beside_it_o
     plaque = np.c_[rng.uniform(-0.12, 0.12, 3000), rng.uniform(-0.03, 0, 3000), rng.uniform(1.05, 1.35, 3000)]
     head = rng.normal(0, 1, (3000, 3))
     head = head / np.linalg.norm(head, axis=1, keepdims=True) * 0.09 + [0, -0.1, 1.21]
+    # what the visual hull took behind the plaque, inside the wall (a 300k MCMC run has Gaussians there)
+    behind = np.c_[rng.uniform(-0.12, 0.12, 400), rng.uniform(0.01, 0.05, 400), rng.uniform(1.05, 1.35, 400)]
     up = np.array([0.0, 0.0, 1.0])
-    normal, offset = object_support(np.concatenate([wall, floor, frame_top, ledge]), np.concatenate([plaque, head]), up)
+    normal, offset = object_support(np.concatenate([wall, floor, frame_top, ledge]),
+                                    np.concatenate([plaque, head, behind]), up)
     assert abs(normal[1]) > np.cos(np.radians(2)) and abs(offset) < 0.005, (normal, offset)
 
 
