@@ -3,7 +3,8 @@ later stage takes as a scene.
 
 pycolmap's own SfM, with the defaults COLMAP and capture apps use: SIFT features, one SIMPLE_RADIAL camera,
 exhaustive matching for a photo set and sequential matching for a video's frames (neighbours in time overlap;
-exhaustive over hundreds of frames is quadratic), incremental mapping, the largest model kept, and the images
+exhaustive over hundreds of frames is quadratic; a vocabulary tree the user gives for large sets), the mapper
+that places the most photos with a reason for each one left out (engine.capture.mapping), and the images
 undistorted to PINHOLE as 3DGS's convert.py does. engine.capture.photos makes the images upright and small enough
 first.
 
@@ -29,6 +30,7 @@ import cv2  # noqa: F401
 
 from engine.base.errors import Cancelled, InputError
 from engine.base.progress import emit, say
+from engine.capture.mapping import MAPPERS, map_photos, unplaced_reasons
 from engine.capture.photos import JPEG_QUALITY, photo_files, prepare_photos, prepare_video
 from engine.formats.layout import CaptureLayout
 
@@ -40,7 +42,9 @@ class CaptureConfig:
     out: str = ""  # a new folder: images/ and sparse/0/, the scene the later stages take
     max_size: int = 1600  # longer image side in px after downscaling (area averaging); 0 keeps the size
     frames: int = 150  # video: views taken, the sharpest frame of each equal stretch
-    matching: str = "auto"  # auto (exhaustive for photos, sequential for video) | exhaustive | sequential
+    matching: str = "auto"  # auto (exhaustive for photos, sequential for video) | exhaustive | sequential | vocab
+    vocab_tree: str = ""  # --matching vocab: COLMAP's vocabulary tree file (for sets past about 150 photos)
+    mapper: str = "best"  # best (incremental; relaxed and global where it leaves photos out) | incremental | global
     min_registered: float = 0.5  # refuse when SfM registers fewer than this share of the images
     threads: int = -1  # CPU threads for SfM (-1: all)
 
@@ -67,10 +71,15 @@ def run_capture(config: CaptureConfig) -> dict:
             clock[phase] = time.perf_counter() - began
             _mark_done(work, phase)
     began = time.perf_counter()
-    model = _cancellable(lambda token: _mapping(photos, work, config, token, len(names)))
+    mapped = _cancellable(lambda token: _mapping(photos, work, config, token, len(names)))
     clock["mapping"] = time.perf_counter() - began
+    model = mapped.model
     registered = model.num_reg_images()
+    left_out = unplaced_reasons(mapped, work / "database.db", photos, names)
+    for name, reason in left_out.items():
+        say(f"not placed: {name}: {reason}")
     report = {"images": len(names), "registered": registered, "points": model.num_points3D(),
+              "mapper": mapped.mapper, "placed_by_mapper": mapped.tried, "not_placed": left_out,
               "mean_reprojection_error_px": round(model.compute_mean_reprojection_error(), 3),
               "camera": f"{model.cameras[next(iter(model.cameras))].model.name}, undistorted to PINHOLE",
               "seconds": round(time.perf_counter() - start, 1), "phases": {k: round(v, 1) for k, v in clock.items()}}
@@ -96,8 +105,13 @@ def _check_out(layout: CaptureLayout, config: CaptureConfig) -> None:
         raise InputError("name the photos with --images DIR or a video with --video FILE (one of the two)")
     if not config.out:
         raise InputError("name a new folder for the capture with --out")
-    if config.matching not in ("auto", "exhaustive", "sequential"):
-        raise InputError(f"--matching {config.matching}: choose auto, exhaustive or sequential")
+    if config.matching not in ("auto", "exhaustive", "sequential", "vocab"):
+        raise InputError(f"--matching {config.matching}: choose auto, exhaustive, sequential or vocab")
+    if config.matching == "vocab" and not Path(config.vocab_tree).is_file():
+        raise InputError(f"--matching vocab needs COLMAP's vocabulary tree file: --vocab-tree PATH "
+                         f"({config.vocab_tree or 'none given'} is not a file; COLMAP's site lists them)")
+    if config.mapper not in MAPPERS:
+        raise InputError(f"--mapper {config.mapper}: choose one of {', '.join(MAPPERS)}")
     out = layout.root
     if layout.report.is_file():
         raise InputError(f"{out} is a finished capture ({layout.report.name}): train on it, or name a new --out")
@@ -173,7 +187,12 @@ def _matches(work: Path, config: CaptureConfig, token) -> None:
     sequential = config.matching == "sequential" or (config.matching == "auto" and bool(config.video))
     options = pycolmap.FeatureMatchingOptions()
     options.num_threads = config.threads
-    if sequential:
+    if config.matching == "vocab":
+        pairing = pycolmap.VocabTreePairingOptions()
+        pairing.vocab_tree_path = config.vocab_tree
+        pycolmap.match_vocabtree(work / "database.db", matching_options=options, pairing_options=pairing,
+                                 device=pycolmap.Device.cpu, cancellation_token=token)
+    elif sequential:
         pycolmap.match_sequential(work / "database.db", matching_options=options, device=pycolmap.Device.cpu,
                                   cancellation_token=token)
     else:
@@ -182,13 +201,9 @@ def _matches(work: Path, config: CaptureConfig, token) -> None:
 
 
 def _mapping(images: Path, work: Path, config: CaptureConfig, token, total: int):
-    """Incremental mapping; the model with the most registered images (progress per registered image)."""
-    import pycolmap
-
+    """The reconstruction placing the most photos (engine.capture.mapping; progress per registered image)."""
     from engine.base.progress import Progress
 
-    options = pycolmap.IncrementalPipelineOptions()
-    options.num_threads = config.threads
     progress, count = Progress("mapping", total), {"n": 0}
 
     def registered() -> None:
@@ -196,16 +211,15 @@ def _mapping(images: Path, work: Path, config: CaptureConfig, token, total: int)
         progress.update(min(count["n"], total))
 
     shutil.rmtree(work / "sparse", ignore_errors=True)
-    (work / "sparse").mkdir()
-    models = pycolmap.incremental_mapping(work / "database.db", images, work / "sparse", options=options,
-                                          next_image_callback=registered, cancellation_token=token)
+    mapped = map_photos(work / "database.db", images, work / "sparse", config.mapper, config.threads, token,
+                        registered)
     progress.close()
     if token.is_cancelled:
         return None
-    if not models:
+    if mapped is None or mapped.model is None:
         raise InputError(f"SfM registered none of the {total} images in {images}: the photos share too few "
                          "features; take overlapping photos of a textured scene")
-    return models[max(models, key=lambda k: models[k].num_reg_images())]
+    return mapped
 
 
 def _undistort(model, photos: Path, work: Path, layout: CaptureLayout, token) -> None:

@@ -1,0 +1,53 @@
+"""`capture` places every photo it can and says why it left any out (engine.capture.mapping): a generated
+livingroom's 40 views, where COLMAP's incremental mapper alone placed 36 and the global mapper all 40, plus a
+photo of noise that matches nothing."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from tests.conftest import make_scene
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture(scope="module")
+def photos(tmp_path_factory) -> Path:
+    root = tmp_path_factory.mktemp("mapping")
+    make_scene(root / "scene", "livingroom", ["--views", "40", "--res", "256", "--samples", "8", "--seed", "3",
+                                              "--points", "3000"])
+    out = root / "photos"
+    shutil.copytree(root / "scene" / "images", out)
+    noise = np.random.default_rng(0).integers(0, 256, (192, 256, 3), dtype=np.uint8)
+    cv2.imwrite(str(out / "zz_noise.png"), noise)
+    return out
+
+
+def capture(photos: Path, out: Path, mapper: str) -> dict:
+    from engine.capture.run import CaptureConfig, run_capture
+
+    return run_capture(CaptureConfig(images=str(photos), out=str(out), mapper=mapper, threads=2))
+
+
+def test_every_photo_is_placed_or_given_a_reason(photos: Path, tmp_path: Path):
+    report = capture(photos, tmp_path / "best", "best")
+    assert report["images"] == 41 and report["registered"] == 40, report  # incremental alone: 36 (measured)
+    assert set(report["not_placed"]) == {"zz_noise.png"}, report["not_placed"]
+    assert report["not_placed"]["zz_noise.png"].startswith("too few matches"), report["not_placed"]
+    assert report["placed_by_mapper"]["incremental"] < 40 and report["mapper"] != "incremental", report
+    written = json.loads((tmp_path / "best" / "capture.json").read_text())
+    assert written["not_placed"] == report["not_placed"]
+    assert len(list((tmp_path / "best" / "images").iterdir())) == 40
+
+
+def test_the_incremental_mapper_alone_leaves_photos_out_with_their_reasons(photos: Path, tmp_path: Path):
+    report = capture(photos, tmp_path / "incremental", "incremental")
+    assert report["mapper"] == "incremental" and list(report["placed_by_mapper"]) == ["incremental"]
+    assert report["registered"] < 40 and len(report["not_placed"]) == 41 - report["registered"], report
+    assert all(reason for reason in report["not_placed"].values())
