@@ -8,6 +8,7 @@ benchmark cells); its hooks say how it runs, over the one loop in engine.complet
     keep_regions(job)   where the training images take the inpainted render (None: everywhere)
     after_scene(job, scene_dir)   change the training scene once written (COLMAP re-estimation); a report
     setup(job, settings)          the training settings and Trainer plug-ins (engine.train.trainer)
+    after_train(job)              change the trained run before it is scored (the from-scratch graft); a report
 
 This module and the method files import neither torch nor OpenCV at their top (hooks import what they need
 when they run), so Blender's Python (scripts/benchmark.py) reads the registry too.
@@ -62,6 +63,11 @@ class CompletionMethod:
         return None
 
     def after_scene(self, job, scene_dir: Path) -> dict | None:
+        return None
+
+    def after_train(self, job) -> dict | None:
+        """Change the trained run before it is scored (a from-scratch scene grafted into the removed one); a
+        report, or None."""
         return None
 
     def setup(self, job, settings):

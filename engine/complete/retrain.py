@@ -33,16 +33,33 @@ WARM = Option("warm", True, "start from the removed scene's Gaussians and the ba
               "reference)")
 
 
+KEEP_REST = Option("keep_rest", True, "with --no-warm: keep the removed scene outside the hole and take from the new "
+                   "scene only what renders into the hole alone (off: the paper's whole new scene; --recolmap, whose "
+                   "scene is in COLMAP's new frame, keeps it whole)")
+
+
 class NewSceneMethod(CompletionMethod):
     """Trains a new Gaussian Grouping scene from scratch on the inpainted views, with the original run's
     settings and step count (the base class's setup)."""
 
-    options = (RECOLMAP, WARM)
+    options = (RECOLMAP, WARM, KEEP_REST)
     needs = Needs(packages=("pycolmap (with --recolmap)",))
 
     def title(self, inpainter: str, options: dict) -> str:
+        whole = not options.get("warm") and (options.get("recolmap") or not options.get("keep_rest", True))
         return (super().title(inpainter, options) + ("[colmap]" if options.get("recolmap") else "")
-                + ("[warm]" if options.get("warm") else ""))
+                + ("[warm]" if options.get("warm") else "") + ("[whole]" if whole else ""))
+
+    def after_train(self, job) -> dict | None:
+        """From scratch: the new scene grafted into the removed one at the hole (engine.complete.warm_start.graft)
+        unless --no-keep-rest or --recolmap keeps it whole."""
+        if job.options.get("warm") or job.options.get("recolmap") or not job.options.get("keep_rest", True):
+            return None
+        if not job.holes.root.is_dir():  # Direct needs no hole masks, and without them the hole is unknown
+            return {"kept_whole": f"{job.holes.root} missing: run `holes` to keep the rest as removal left it"}
+        from engine.complete.warm_start import graft
+
+        return graft(job)
 
     def check(self, job) -> None:
         if job.options.get("warm") and job.options.get("recolmap"):

@@ -122,6 +122,9 @@ def run_complete(config: CompleteConfig) -> dict:
     settings, plugins = job.method.setup(job, settings)
     metrics = train(settings, resume=out.run.config_json.is_file(), plugins=plugins,
                     resume_hint="the same `python -m engine complete` command (or with --resume)")
+    grafted = job.method.after_train(job)
+    if grafted:
+        metrics = {**metrics, "gaussians": grafted.get("gaussians", metrics["gaussians"]), "graft": grafted}
     seconds = time.perf_counter() - start
     clock["train"] = seconds - clock["scene"]
     clock["train_loop"] = float(metrics.get("train_seconds", 0.0))
@@ -231,7 +234,7 @@ def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | Non
               "phases": {k: round(v, 2) for k, v in clock.items()},
               "gaussians": metrics["gaussians"], "scores": scores.values, "unavailable": scores.unavailable,
               "removed_scores": baseline.values, "oracle_scores": score_oracles(job.original.scene),
-              "recolmap": colmap,
+              "recolmap": colmap, "graft": metrics.get("graft"),
               "turntable": video and str(video.relative_to(out.root)), "gpu": gpu_name(job.device),
               "versions": versions()}
     partial = out.root / ".scores.json.tmp"

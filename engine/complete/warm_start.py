@@ -18,7 +18,7 @@ import numpy as np
 
 from engine.base.errors import InputError
 from engine.complete.finetune import hole_gaussians, nearest_identity, reference_views
-from engine.complete.hole_region import check_movable, hole_bound, split_at_hole
+from engine.complete.hole_region import check_movable, hole_bound, split_at_hole, wholly_hole_bound
 from engine.formats.layout import InpaintedLayout, RemovedLayout
 from engine.inpaint.run import inpainted_dilation
 from engine.io.gaussians import Gaussians, concat
@@ -36,10 +36,7 @@ def warm_setup(job, settings: TrainConfig) -> tuple[TrainConfig, dict]:
     first step; a tenth of the base run's steps unless the user gave --steps; only views with a hole drawn;
     the budget what the fixed Gaussians leave of the base run's (at least the start)."""
     scene = job.original.scene
-    if not job.holes.root.is_dir():
-        raise InputError(f"{job.holes.root} missing: run `python -m engine holes` on the run first")
-    holes = read_masks(job.holes.root, scene.cameras, inpainted_dilation(job.inpainted))
-    surfaces = {i: read_depth(job.removed.depth / exr_name(c.name)) for i, c in enumerate(scene.cameras)}
+    holes, surfaces = _hole_views(job)
     removed = load_ply(job.removed.point_cloud)
     movable, fixed = split_at_hole(removed, hole_bound(removed["means"].numpy(), scene, holes, surfaces))
     seeds = _seeds(job, holes, surfaces, removed, settings.sh_degree)
@@ -54,6 +51,41 @@ def warm_setup(job, settings: TrainConfig) -> tuple[TrainConfig, dict]:
                          "is the result)")
     return config, {"start": start, "fixed": fixed, "views": views,
                     "classifier": copy.deepcopy(job.original.classifier)}
+
+
+def _hole_views(job) -> tuple[dict[int, np.ndarray], dict[int, np.ndarray]]:
+    """Each view's hole as the inpainting filled it (its dilation) and the removed scene's rendered depth."""
+    scene = job.original.scene
+    if not job.holes.root.is_dir():
+        raise InputError(f"{job.holes.root} missing: run `python -m engine holes` on the run first")
+    holes = read_masks(job.holes.root, scene.cameras, inpainted_dilation(job.inpainted))
+    surfaces = {i: read_depth(job.removed.depth / exr_name(c.name)) for i, c in enumerate(scene.cameras)}
+    return holes, surfaces
+
+
+def graft(job) -> dict:
+    """A scene trained from scratch (--no-warm) kept to the hole: its Gaussians that render into the hole alone
+    (whole, not by their centres: `wholly_hole_bound`),
+    over the removed scene's that reach anywhere else (whole too: by centres, the removed Gaussians that reached
+    past the hole went with it and the worst view outside it was 40 dB from the removed scene), with the base run's
+    classifier, written over the run's point_cloud.ply. So outside the hole every view renders as the removed
+    scene does, as the warm methods and FT do, while the hole is what the new scene learned from the inpainted
+    views. Grafting twice gives the same scene (the removed part kept is never wholly in the hole)."""
+    from engine.io.ply_io import save_classifier, save_ply
+
+    scene, layout = job.original.scene, job.out.run
+    holes, surfaces = _hole_views(job)
+    removed, trained = load_ply(job.removed.point_cloud), load_ply(layout.point_cloud)
+    fixed = split_at_hole(removed, wholly_hole_bound(removed, scene, holes, surfaces))[1]
+    inside = split_at_hole(trained, wholly_hole_bound(trained, scene, holes, surfaces))[0]
+    if len(inside["means"]):
+        inside["identity"] = nearest_identity(inside["means"], removed)
+    partial = layout.point_cloud.with_name(".grafted.ply")
+    save_ply(partial, concat(fixed, inside))
+    partial.replace(layout.point_cloud)
+    save_classifier(layout.classifier, job.original.classifier)
+    return {"new_in_hole": len(inside["means"]), "new_elsewhere": len(trained["means"]) - len(inside["means"]),
+            "removed_kept": len(fixed["means"]), "gaussians": len(fixed["means"]) + len(inside["means"])}
 
 
 def _seeds(job, holes: dict[int, np.ndarray], surfaces: dict[int, np.ndarray], removed: Gaussians,
