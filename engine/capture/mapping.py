@@ -25,6 +25,7 @@ import cv2
 import numpy as np
 
 from engine.base.errors import InputError
+from engine.capture.photos import sharpness
 
 MAPPERS = ("best", "incremental", "global")
 RELAXED = {"init_min_num_inliers": 50, "init_min_tri_angle": 8.0}  # COLMAP's: 100 inliers, 16 degrees
@@ -124,15 +125,15 @@ def best_matches(database: Path) -> dict[str, tuple[int, str]]:
     return best
 
 
-def sharpness(path: Path) -> float:
-    """Variance of the Laplacian of the photo's grey image at SHARPNESS_PX on its longer side."""
+def photo_sharpness(path: Path) -> float:
+    """engine.capture.photos.sharpness of the photo's grey image at SHARPNESS_PX on its longer side."""
     grey = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
     if grey is None:
         return 0.0
     scale = SHARPNESS_PX / max(grey.shape)
     if scale < 1:
         grey = cv2.resize(grey, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA)
-    return float(cv2.Laplacian(grey, cv2.CV_64F).var())
+    return sharpness(grey)
 
 
 def unplaced_reasons(mapped: Mapped, database: Path, images: Path, names: list[str],
@@ -143,13 +144,13 @@ def unplaced_reasons(mapped: Mapped, database: Path, images: Path, names: list[s
     if not left:
         return {}
     matches = best_matches(database)
-    median = float(np.median([sharpness(images / name) for name in names]))
+    median = float(np.median([photo_sharpness(images / name) for name in names]))
     reasons = {}
     for name in left:
         count, partner = matches.get(name, (0, ""))
         if name in mapped.elsewhere:
             reasons[name] = f"placed in another model of {mapped.elsewhere[name]} photos, apart from the kept one"
-        elif (value := sharpness(images / name)) < BLUR_SHARE * median:
+        elif (value := photo_sharpness(images / name)) < BLUR_SHARE * median:
             reasons[name] = f"blurred (sharpness {value:.0f}, {value / max(median, 1e-9):.0%} of the set's median)"
         elif count < min_matches:
             reasons[name] = f"too few matches with any other photo ({count} verified, {min_matches} needed)"

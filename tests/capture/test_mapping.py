@@ -51,3 +51,26 @@ def test_the_incremental_mapper_alone_leaves_photos_out_with_their_reasons(photo
     assert report["mapper"] == "incremental" and list(report["placed_by_mapper"]) == ["incremental"]
     assert report["registered"] < 40 and len(report["not_placed"]) == 41 - report["registered"], report
     assert all(reason for reason in report["not_placed"].values())
+
+
+def test_a_video_of_an_orbit_registers_from_its_sharpest_frames(photos: Path, tmp_path: Path):
+    """The orbit's 40 renders as an MP4, each view held for three frames of which the first and last are blurred
+    as a shaking hand blurs them: `capture --video --frames 40` keeps the sharp frame of each view, and the
+    frames register (sequential matching, as for any video)."""
+    from engine.pictures.video import write_mp4
+
+    frames = []
+    for k, path in enumerate(sorted(p for p in photos.iterdir() if not p.name.startswith("zz_"))):
+        image = cv2.imread(str(path))
+        for j, sigma in enumerate((3.0, 0.0, 2.0)):
+            out = tmp_path / "frames" / f"{3 * k + j:04d}.png"
+            out.parent.mkdir(exist_ok=True)
+            cv2.imwrite(str(out), cv2.GaussianBlur(image, (0, 0), sigma) if sigma else image)
+            frames.append(out)
+    video = write_mp4(frames, tmp_path / "orbit.mp4", fps=12)
+    from engine.capture.run import CaptureConfig, run_capture
+
+    report = run_capture(CaptureConfig(video=str(video), out=str(tmp_path / "capture"), frames=40, threads=2))
+    kept = sorted(p.name for p in (tmp_path / "capture" / "images").iterdir())
+    assert report["images"] == 40 and report["registered"] >= 36, report
+    assert all(int(name[6:11]) % 3 == 1 for name in kept), kept  # the middle, sharp frame of each view
