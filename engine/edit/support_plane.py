@@ -8,8 +8,9 @@ the true hole is 4-13% deeper than the real table top, and a depth-warping test 
 views and stopping each ray of the object's region at that plane restores the surface that should be
 there; a warp from the plane then finds it hidden by the object in every view.
 
-Objects on a plane (a table, a slab, mats) are the scenes this toolkit generates and the paper uses; with
-no clear plane around the object, nothing changes. The level planes (floor, table top) that the same
+Objects on a plane (a table, a slab, mats) are the scenes this toolkit generates and the paper uses, and objects
+mounted on a wall (`object_support` takes the wall where the object hangs on it); with no clear plane around the
+object, nothing changes. The level planes (floor, table top) that the same
 cameras' up vector picks out also serve `segment --auto` (engine.segment.proposals), which splits what rests
 on them into objects.
 """
@@ -21,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
+from engine.edit.plane_grid import PlaneFrame
 from engine.formats.cameras import Camera, backproject, pixel_grid
 from engine.formats.checks import read_json
 from engine.formats.layout import RemovedLayout
@@ -231,14 +233,10 @@ def surrounds(means: np.ndarray, obj: np.ndarray, plane: tuple[np.ndarray, float
     radius = float(np.percentile(axis_distance(obj, centre, normal), 95))
     size = max(radius, 1e-6)
     tol = 0.01 * 2 * size
-    rel = means - centre
     near = (np.abs(means @ normal + offset) < 2 * tol) & (axis_distance(means, centre, normal) < radius + size)
     if near.sum() < SURROUND_SECTORS:
         return False
-    a = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
-    a /= np.linalg.norm(a)
-    b = np.cross(normal, a)
-    flat = np.stack([rel[near] @ a, rel[near] @ b], axis=1)
+    flat = PlaneFrame.of(normal, offset).flat(means[near] - centre)
     angle = np.arctan2(flat[:, 1], flat[:, 0])
     sectors = np.unique(((angle + np.pi) / (2 * np.pi) * SURROUND_SECTORS).astype(int) % SURROUND_SECTORS)
     spread = np.sqrt(np.linalg.eigvalsh(np.cov(flat.T))[0])  # across its narrowest way: a line has none

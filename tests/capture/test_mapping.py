@@ -12,18 +12,15 @@ import cv2
 import numpy as np
 import pytest
 
-from tests.conftest import make_scene
+from tests.capture.test_user_path import orbit_scene
 
 pytestmark = pytest.mark.slow
 
 
 @pytest.fixture(scope="module")
 def photos(tmp_path_factory) -> Path:
-    root = tmp_path_factory.mktemp("mapping")
-    make_scene(root / "scene", "livingroom", ["--views", "40", "--res", "256", "--samples", "8", "--seed", "3",
-                                              "--points", "3000"])
-    out = root / "photos"
-    shutil.copytree(root / "scene" / "images", out)
+    out = tmp_path_factory.mktemp("mapping") / "photos"
+    shutil.copytree(orbit_scene(tmp_path_factory) / "images", out)
     noise = np.random.default_rng(0).integers(0, 256, (192, 256, 3), dtype=np.uint8)
     cv2.imwrite(str(out / "zz_noise.png"), noise)
     return out

@@ -23,7 +23,7 @@ import pytest
 
 from benchmarks.capture_path import readme_commands
 from engine.pictures.video import count_frames
-from tests.conftest import REPO, make_scene, setup_weight
+from tests.conftest import REPO, made_once, make_scene, setup_weight
 
 pytestmark = pytest.mark.slow
 SIDE = {6: cv2.ROTATE_90_COUNTERCLOCKWISE, 8: cv2.ROTATE_90_CLOCKWISE}  # how a phone stores a portrait photo
@@ -37,16 +37,21 @@ def exif_jpeg(bgr: np.ndarray, orientation: int) -> bytes:
     return data[:2] + b"\xff\xe1" + struct.pack(">H", len(app1) + 2) + app1 + data[2:]
 
 
+def orbit_scene(tmp_path_factory) -> Path:
+    """A livingroom's 40 orbit views at 256 px, made once per test run (the mapping and video tests read it too)."""
+    return made_once(tmp_path_factory, "scene-livingroom-s3-orbit40", lambda out: make_scene(
+        out, "livingroom", ["--views", "40", "--res", "256", "--samples", "8", "--seed", "3", "--points", "3000"]))
+
+
 @pytest.fixture(scope="module")
 def photos(tmp_path_factory) -> Path:
     """40 views of a livingroom at 256 px as JPEG photos, every other one stored sideways with its EXIF tag
     (31-36 of 40 register in SfM; 20 views at 160 px registered none)."""
     root = tmp_path_factory.mktemp("photos")
-    make_scene(root / "scene", "livingroom", ["--views", "40", "--res", "256", "--samples", "8", "--seed", "3",
-                                              "--points", "3000"])
+    scene = orbit_scene(tmp_path_factory)
     out = root / "photos"
     out.mkdir()
-    for k, path in enumerate(sorted((root / "scene" / "images").glob("*.png"))):
+    for k, path in enumerate(sorted((scene / "images").glob("*.png"))):
         image = cv2.imread(str(path))
         orientation = (6, 8)[k // 2 % 2] if k % 2 else 1
         stored = cv2.rotate(image, SIDE[orientation]) if orientation != 1 else image
