@@ -136,9 +136,9 @@ def fill_texture(texture: np.ndarray, seen: np.ndarray, needed: np.ndarray, inpa
 
 def write_plane_texture(images: list[np.ndarray], cameras: list[Camera], holes: list[np.ndarray],
                         depths: list[np.ndarray], plane: tuple[np.ndarray, float], footprint: Footprint,
-                        inpainter) -> tuple[list[np.ndarray], dict]:
-    """Every view's `images` with the on-plane part of its hole read from the plane's texture (inpainted once);
-    and a report. `depths` are the views' inpainted depths (the removed scene's outside the holes)."""
+                        inpainter) -> tuple[list[np.ndarray], dict, np.ndarray]:
+    """Every view's `images` with the on-plane part of its hole read from the plane's texture (inpainted once),
+    a report, and the texture. `depths` are the views' inpainted depths (the removed scene's outside the holes)."""
     grid = texture_grid(plane, footprint, cameras)
     texture, seen, needed = gather(grid, cameras, images, holes, depths)
     filled = fill_texture(texture, seen, needed, inpainter)
