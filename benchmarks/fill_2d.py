@@ -20,6 +20,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from engine.formats.layout import SceneLayout
 from engine.inpaint.registry import create
 from engine.metrics.image_metrics import psnr_from_mse
 
@@ -56,11 +57,12 @@ def inpainters() -> tuple[dict[str, Callable], dict[str, str]]:
 def score(scene: Path, fills: dict[str, Callable], every: int) -> dict[str, list[tuple[float, float]]]:
     """(m-PSNR, seconds per megapixel) per view and inpainter, every `every`th view with a hole of 20 px or more."""
     out: dict[str, list[tuple[float, float]]] = {name: [] for name in fills}
-    for path in sorted((scene / "holes").iterdir())[::every]:
+    layout = SceneLayout(scene)
+    for path in sorted(layout.holes.iterdir())[::every]:
         hole = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE) > 0
         if hole.sum() < 20:
             continue
-        truth = cv2.cvtColor(cv2.imread(str(scene / "gt" / path.name)), cv2.COLOR_BGR2RGB)
+        truth = cv2.cvtColor(cv2.imread(str(layout.gt / path.name)), cv2.COLOR_BGR2RGB)
         blank = truth.copy()
         blank[hole] = 0
         for name, fill in fills.items():

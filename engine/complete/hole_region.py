@@ -29,7 +29,6 @@ from engine.formats.cameras import project, sample_nearest
 from engine.io.gaussians import PARAM_NAMES, Gaussians
 
 HIDDEN_SLACK = 1.05  # a Gaussian this much deeper than the view's rendered surface is hidden there
-EXTENT_SIGMAS = 2.0  # a whole Gaussian's reach, in scales along each axis
 NEAR = 1e-3
 
 
@@ -37,29 +36,6 @@ def hole_bound(means: np.ndarray, scene: Scene, holes: dict[int, np.ndarray],
                depths: dict[int, np.ndarray]) -> np.ndarray:
     """Which `means` (N, 3) render into the holes (view -> bool mask) and nowhere else (see the module
     docstring); `depths` are the removed scene's rendered depths of the same views."""
-    inside_some, outside_any = _sides(means, scene, holes, depths)
-    return inside_some & ~outside_any
-
-
-def wholly_hole_bound(gaussians: Gaussians, scene: Scene, holes: dict[int, np.ndarray],
-                      depths: dict[int, np.ndarray], sigmas: float = EXTENT_SIGMAS) -> np.ndarray:
-    """`hole_bound` for whole Gaussians: the centre, and the ends of each axis `sigmas` scales out, never shown
-    outside a hole. A scene trained from scratch has Gaussians centred in the hole that reach far past it (a
-    grafted tiny run's worst view outside the hole was 38.7 dB from the removed scene by centres alone)."""
-    from engine.render.rasterize_reference import quat_rotation
-
-    means = gaussians["means"].numpy()
-    axes = (quat_rotation(gaussians["quats"].float()) * torch.exp(gaussians["scales"].float())[:, None, :]).numpy()
-    bound = hole_bound(means, scene, holes, depths)
-    for k in range(3):
-        for sign in (-sigmas, sigmas):
-            bound &= ~_sides(means + sign * axes[:, :, k], scene, holes, depths)[1]
-    return bound
-
-
-def _sides(means: np.ndarray, scene: Scene, holes: dict[int, np.ndarray],
-           depths: dict[int, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """(N,) whether each point falls in some view's hole, and whether some view shows it outside its hole."""
     inside_some = np.zeros(len(means), bool)
     outside_any = np.zeros(len(means), bool)
     for i, hole in holes.items():
@@ -70,7 +46,7 @@ def _sides(means: np.ndarray, scene: Scene, holes: dict[int, np.ndarray],
         shown = ~(np.isfinite(surface) & (surface > 0)) | (z <= surface * HIDDEN_SLACK)
         inside_some |= in_image & in_hole
         outside_any |= in_image & ~in_hole & shown
-    return inside_some, outside_any
+    return inside_some & ~outside_any
 
 
 def split_at_hole(gaussians: Gaussians, movable: np.ndarray) -> tuple[Gaussians, Gaussians]:

@@ -19,19 +19,15 @@ ALPHA_THRESHOLD = 1.0 / 255.0
 TILE = 16
 
 
-def quat_rotation(quats: torch.Tensor) -> torch.Tensor:
-    """(N, 3, 3) rotations from quaternions (N, 4) w, x, y, z (normalised here)."""
+def quat_scale_to_covar(quats: torch.Tensor, scales: torch.Tensor) -> torch.Tensor:
+    """(N, 3, 3) covariances from quaternions (N, 4) w, x, y, z and (activated) scales (N, 3)."""
     w, x, y, z = F.normalize(quats, dim=-1).unbind(-1)
-    return torch.stack([
+    rot = torch.stack([
         1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
         2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
         2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y),
     ], dim=-1).reshape(-1, 3, 3)
-
-
-def quat_scale_to_covar(quats: torch.Tensor, scales: torch.Tensor) -> torch.Tensor:
-    """(N, 3, 3) covariances from quaternions (N, 4) w, x, y, z and (activated) scales (N, 3)."""
-    m = quat_rotation(quats) * scales[:, None, :]
+    m = rot * scales[:, None, :]
     return m @ m.transpose(1, 2)
 
 
