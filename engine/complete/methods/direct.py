@@ -15,4 +15,4 @@ class Direct(NewSceneMethod):
     label = "Direct"
     summary = "train a new scene on input images with the object painted out (the paper's direct baseline)"
     source = "input"
-    cells = {"direct": {}, "direct-scratch": {"warm": False}}
+    cells = {"direct": {}, "direct-scratch": {"warm": False, "keep_rest": False}}

@@ -1,5 +1,6 @@
 """Init-<inpainter> (the paper's re-initialisation): a new scene trained on the inpainted views, from the removed
-scene's Gaussians by default (Init-<inpainter>[warm]; --no-warm: from scratch, as the paper; engine.complete.retrain).
+scene's Gaussians by default (Init-<inpainter>[warm]; --no-warm: from scratch, kept to the hole unless
+--no-keep-rest trains the paper's whole new scene; engine.complete.retrain).
 
 The training images are the inpainted render inside the removed object's region (removal's masks grown by
 the inpainting's dilation and 2 px) and inside its shadow where `remove` relit one (removed/effects, grown by
@@ -23,7 +24,8 @@ class Init(NewSceneMethod):
     name = "init"
     label = "Init"
     summary = "train a new scene from the inpainted views (the paper's Init)"
-    cells = {"init": {}, "init-scratch": {"warm": False}, "init-colmap": {"recolmap": True, "warm": False}}
+    cells = {"init": {}, "init-scratch": {"warm": False, "keep_rest": False},  # the paper's whole new scene
+             "init-colmap": {"recolmap": True, "warm": False}}
 
     def keep_regions(self, job) -> dict:
         from engine.inpaint.run import inpainted_dilation

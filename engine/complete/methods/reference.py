@@ -23,8 +23,8 @@ class Reference(Init):
     label = "Ref"
     summary = "inpaint one reference view, carry its fill to every view by depth, train a new scene"
     options = (*Init.options, CONSENSUS, PLANE)
-    cells = {"reference": {}, "reference-single": {"consensus": False}, "reference-scratch": {"warm": False},
-             "reference-plane": {"plane_texture": True}}
+    cells = {"reference": {}, "reference-single": {"consensus": False},
+             "reference-scratch": {"warm": False, "keep_rest": False}, "reference-plane": {"plane_texture": True}}
 
     def title(self, inpainter: str, options: dict) -> str:
         return (super().title(inpainter, options) + ("" if options.get("consensus", True) else "[single]")
