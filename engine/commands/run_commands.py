@@ -33,8 +33,15 @@ def segment(config) -> str:
 
     out = Path(config.out) if config.out else RunLayout(config.run).segments.root
     report = run_segment(load_run(config.run), config)  # refuses to replace objects found before unless --replace
-    return (f"{report['objects']} objects in {out}: see {out / 'sheet.png'}, then `remove --run {config.run} "
+    said = (f"{report['objects']} objects in {out}: see {out / 'sheet.png'}, then `remove --run {config.run} "
             "--object NAME`")
+    if "subject_share" not in report:
+        return said
+    share = f"{report['subject_share']:.1%} of the scene's Gaussians"
+    if report.get("subject") == "votes":
+        return f"{said}; object_1, the subject the photos are about: {share}"
+    return (f"{said}; no salient subject was found, so object_1 is only the largest object ({share}): if it is not "
+            f"the one, pick it with `segment --run {config.run} --point U V --view IMAGE --replace`")
 
 
 def complete(config) -> str:

@@ -192,6 +192,8 @@ def run_segment(run, config: SegmentConfig) -> dict:
                 stats.update(votes)
         ids = renumber(ids, config.min_gaussians, first)
         objects = [SceneObject(int(i), f"object_{i}", False) for i in range(1, int(ids.max(initial=0)) + 1)]
+        if config.auto and objects:
+            stats["subject_share"] = round(float((ids == 1).mean()), 4)  # object_1's share of the scene's Gaussians
     if not objects:
         raise InputError(f"no object found in {run.root} ({stats}): check the masks (0 = unlabelled), or "
                          "select one with --box or --indices")

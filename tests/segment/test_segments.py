@@ -103,6 +103,9 @@ def test_auto_finds_the_target_without_masks(run_copy: Path, tmp_path: Path):
                              [o.id for o in scene.objects])
     target = scores["objects"][scene.target.id]
     assert report["subject"] == "votes" and target["found"] == 1 and target["iou"] >= 0.6, (report, scores)
+    sizes = {o["name"]: o["gaussians"] for o in json.loads((run_copy / "segments" / "objects.json").read_text())}
+    assert report["subject_share"] == pytest.approx(sizes["object_1"] / len(load_run(run_copy).gaussians["means"]),
+                                                    abs=1e-4)
     removal = run_removal(RemovalConfig(run=str(run_copy), object="object_1", out=str(tmp_path / "r"), device="cpu"))
     assert removal["removed"] > 0
 
