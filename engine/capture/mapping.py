@@ -24,7 +24,6 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from engine.base.errors import InputError
 from engine.capture.photos import sharpness
 
 MAPPERS = ("best", "incremental", "global")
@@ -47,8 +46,6 @@ class Mapped:
 def map_photos(database: Path, images: Path, work: Path, mapper: str, threads: int, token, progress) -> Mapped | None:
     """The reconstruction placing the most photos among the attempts `mapper` names (see the module docstring);
     None when cancelled. `progress()` is called per image the incremental mapper registers."""
-    if mapper not in MAPPERS:
-        raise InputError(f"--mapper {mapper}: choose one of {', '.join(MAPPERS)}")
     total = _image_count(database)
     attempts = {"best": ("incremental", "incremental-relaxed", "global"), "incremental": ("incremental",),
                 "global": ("global",)}[mapper]
@@ -144,13 +141,14 @@ def unplaced_reasons(mapped: Mapped, database: Path, images: Path, names: list[s
     if not left:
         return {}
     matches = best_matches(database)
-    median = float(np.median([photo_sharpness(images / name) for name in names]))
+    sharp = {name: photo_sharpness(images / name) for name in names}
+    median = float(np.median(list(sharp.values())))
     reasons = {}
     for name in left:
         count, partner = matches.get(name, (0, ""))
         if name in mapped.elsewhere:
             reasons[name] = f"placed in another model of {mapped.elsewhere[name]} photos, apart from the kept one"
-        elif (value := photo_sharpness(images / name)) < BLUR_SHARE * median:
+        elif (value := sharp[name]) < BLUR_SHARE * median:
             reasons[name] = f"blurred (sharpness {value:.0f}, {value / max(median, 1e-9):.0%} of the set's median)"
         elif count < min_matches:
             reasons[name] = f"too few matches with any other photo ({count} verified, {min_matches} needed)"
