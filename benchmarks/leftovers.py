@@ -18,6 +18,7 @@ import torch
 
 from engine.edit.removal import RemovalConfig
 from engine.formats.layout import RunLayout
+from engine.formats.splat_ply import SH_C0
 from engine.io.image_io import read_png
 from engine.io.masks import dilate
 from engine.io.ply_io import load_ply
@@ -25,7 +26,6 @@ from engine.io.visibility import inside_visual_hull
 from engine.train.trained_run import load_run_scene
 
 SHARES = (0.5, 0.7, 0.8, 0.9)  # lower edges of the bands reported (0.9 and up: what the hull test removes)
-SH_C0 = 0.28209479177387814
 
 
 def describe(chosen: np.ndarray, gaussians: dict, plane: list[float] | None, scale: float) -> dict:
