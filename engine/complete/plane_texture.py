@@ -53,6 +53,11 @@ class TextureGrid:
         on_plane = -self.frame.d * self.frame.n
         return on_plane + jj.reshape(-1, 1) * self.frame.a + ii.reshape(-1, 1) * self.frame.b
 
+    @property
+    def plane(self) -> tuple[np.ndarray, float]:
+        """The plane as (unit normal, offset), n.p + d = 0."""
+        return self.frame.n, self.frame.d
+
     def coords(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(N,) column and row coordinates (cell units, centres at k + 0.5) of world points on the plane."""
         return ((points @ self.frame.a - self.origin[0]) / self.cell,
@@ -104,7 +109,7 @@ def apply_texture(grid: TextureGrid, texture: np.ndarray, valid: np.ndarray, cam
     from engine.complete.reference_fill import sample_bilinear
 
     ys, xs = np.nonzero(hole)
-    unit, z_plane = plane_along_rays(camera, ys, xs, grid_plane(grid))
+    unit, z_plane = plane_along_rays(camera, ys, xs, grid.plane)
     with np.errstate(invalid="ignore"):
         on_plane = (z_plane > 0) & np.isfinite(depth[ys, xs]) & (np.abs(depth[ys, xs] - z_plane) <= rel_tol * z_plane)
     cols, rows = grid.coords(camera.center + unit * np.where(on_plane, z_plane, 0.0)[:, None])
@@ -116,10 +121,6 @@ def apply_texture(grid: TextureGrid, texture: np.ndarray, valid: np.ndarray, cam
                                                          rows[use] - 0.5)).astype(image.dtype)
         placed[ys[use], xs[use]] = True
     return out, placed
-
-
-def grid_plane(grid: TextureGrid) -> tuple[np.ndarray, float]:
-    return grid.frame.n, grid.frame.d
 
 
 def fill_texture(texture: np.ndarray, seen: np.ndarray, needed: np.ndarray, inpainter) -> np.ndarray:
