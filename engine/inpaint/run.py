@@ -43,14 +43,19 @@ SHEET_ROWS = 6
 PARENT_POLL_S = 1.0  # how often a worker process checks that its parent still runs
 
 
+def _saved_config(inpainted: InpaintedLayout) -> dict:
+    """The settings an inpainting run wrote to its config.json."""
+    return json.loads(inpainted.config_json.read_text())["config"]
+
+
 def inpainted_dilation(inpainted: InpaintedLayout) -> int:
     """The px an inpainting run grew its masks by (from its config.json): what it filled beyond the holes."""
-    return json.loads(inpainted.config_json.read_text())["config"].get("dilate", 0)
+    return _saved_config(inpainted).get("dilate", 0)
 
 
 def inpainted_holes(inpainted: InpaintedLayout) -> str:
     """The holes folder an inpainting run filled (from its config.json; "" where it named none)."""
-    return json.loads(inpainted.config_json.read_text())["config"].get("holes", "")
+    return _saved_config(inpainted).get("holes", "")
 
 
 @dataclass
@@ -71,7 +76,7 @@ class InpaintConfig:
 
 def inpainted_inpainter(inpainted: InpaintedLayout):
     """The inpainter an inpainting run used, built as it was (its config.json): to fill more in its manner."""
-    saved = json.loads(inpainted.config_json.read_text())["config"]
+    saved = _saved_config(inpainted)
     return _inpainter(InpaintConfig(**{f.name: saved[f.name] for f in dataclasses.fields(InpaintConfig)
                                        if f.name in saved}))
 
