@@ -52,6 +52,7 @@ class TrainConfig:
     lr_identity: float = 2.5e-3  # learning rate of the 16-d identity encodings (Gaussian Grouping)
     lr_classifier: float = 5e-4  # learning rate of the per-pixel linear classifier
     ssim_weight: float = 0.2  # photometric loss: (1 - w) L1 + w (1 - SSIM)
+    fused_ssim: bool = False  # the SSIM term by the fussim package's CUDA kernel (a measured lead; CUDA only)
     identity_weight: float = 1.0  # weight of the identity cross-entropy (divided by log of the class count)
     identity_every: int = 4  # render and train the identities on every Nth step only (1: every step, the paper's)
     reg3d_every: int = 5  # the 3D KNN regulariser runs on every Nth identity step

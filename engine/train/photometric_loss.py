@@ -11,12 +11,17 @@ E[xy] (blur G), and only x (the render) needing a gradient:
   dS/dm_x = 2 (m_y (a2 - a1) - m_x S (b2 - b1)) / (b1 b2),  dS/dE[x^2] = -S / b2,  dS/dE[xy] = 2 a1 / (b1 b2)
   dL/dx = G(u dS/dm_x) + 2 x G(u dS/dE[x^2]) + y G(u dS/dE[xy])   (G is its own adjoint)
 where u = -w / (C H W) is the loss's derivative with respect to each S.
+
+`fused`: the SSIM term from the registry package fussim's fused CUDA kernel instead (the same window and
+constants), a lead of the training-speed issue measured in docs/BENCHMARKS.md ("Training"); never the default
+until it measures faster at equal quality.
 """
 
 from __future__ import annotations
 
 import torch
 
+from engine.base.errors import InputError
 from engine.metrics.image_metrics import blur, ssim_parts
 
 
@@ -43,7 +48,21 @@ class _Photometric(torch.autograd.Function):
         return (grad * d_x)[0].permute(1, 2, 0), None, None
 
 
-def photometric_loss(rgb: torch.Tensor, target: torch.Tensor, ssim_weight: float) -> torch.Tensor:
+def photometric_loss(rgb: torch.Tensor, target: torch.Tensor, ssim_weight: float, fused: bool = False
+                     ) -> torch.Tensor:
     """(1 - ssim_weight) mean |rgb - target| + ssim_weight (1 - SSIM) for images (H, W, C); differentiable in
     `rgb` only (the target is data)."""
-    return _Photometric.apply(rgb, target, ssim_weight)
+    if not fused:
+        return _Photometric.apply(rgb, target, ssim_weight)
+    x, y = rgb.permute(2, 0, 1)[None], target.permute(2, 0, 1)[None]
+    return (1 - ssim_weight) * (x - y).abs().mean() + ssim_weight * (1 - fused_ssim()(x, y))
+
+
+def fused_ssim():
+    """fussim's fused_ssim, or one line saying how to get it."""
+    try:
+        from fussim import fused_ssim as ssim
+    except ImportError as error:
+        raise InputError(f"--fused-ssim needs the fussim package on a CUDA machine ({error}): "
+                         "pip install fussim, or leave --fused-ssim off") from error
+    return ssim

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 import random
+from collections.abc import Callable
+from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -72,7 +74,9 @@ class GroupingObjective:
 
     def __call__(self, trainer: Trainer, view: int, out, target: torch.Tensor) -> torch.Tensor:
         cfg = trainer.config
-        return photometric_loss(out.rgb, target, cfg.ssim_weight) + grouping_terms(trainer, view, out)
+        with trainer.part("photometric"):
+            photometric = photometric_loss(out.rgb, target, cfg.ssim_weight, cfg.fused_ssim)
+        return photometric + grouping_terms(trainer, view, out)
 
 
 def grouping_terms(trainer: Trainer, view: int, out) -> torch.Tensor | float:
@@ -80,11 +84,21 @@ def grouping_terms(trainer: Trainer, view: int, out) -> torch.Tensor | float:
     cfg, step, loss = trainer.config, trainer.step_index, 0.0
     if out.logits is not None:  # a step that renders identities (scenes with masks, every identity_every steps)
         classes = out.logits.shape[-1]
-        loss = loss + cfg.identity_weight * pixel_cross_entropy(out.logits, trainer.masks[view]) / math.log(classes)
+        with trainer.part("identity"):
+            loss = loss + (cfg.identity_weight * pixel_cross_entropy(out.logits, trainer.masks[view])
+                           / math.log(classes))
         if cfg.reg3d_every > 0 and step % cfg.reg3d_every == 0:
-            loss = loss + trainer.regularizer.loss(trainer.params["identity"], trainer.classifier,
-                                                   trainer.params["means"], step, trainer.generator)
-    return loss + trainer.strategy.regularisation(trainer.params, cfg)
+            with trainer.part("regulariser"):
+                loss = loss + trainer.regularizer.loss(trainer.params["identity"], trainer.classifier,
+                                                       trainer.params["means"], step, trainer.generator)
+    with trainer.part("strategy"):
+        return loss + trainer.strategy.regularisation(trainer.params, cfg)
+
+
+def no_part(name: str) -> AbstractContextManager:
+    """A training step's parts are named for a profiler (benchmarks/train_profile.py sets Trainer.part to
+    torch.profiler.record_function); in training they cost one empty context each."""
+    return nullcontext()
 
 
 def trained_part(info: dict, fixed: int) -> dict:
@@ -147,6 +161,7 @@ class Trainer:
                       if scene.masks is not None else None)
         self.step_index = 0
         self.seconds = 0.0
+        self.part: Callable[[str], AbstractContextManager] = no_part  # names a step's parts for a profiler
 
     def _init_params(self, start: Gaussians | None) -> torch.nn.ParameterDict:
         cfg = self.config
@@ -177,21 +192,28 @@ class Trainer:
         return cfg.lr_means * self.extent * cfg.lr_means_final_ratio ** (step / max(cfg.steps, 1))
 
     def step(self) -> StepResult:
-        """One training step on one training view."""
-        step = self.step_index
-        lr = self._means_lr(step)
-        self.optimizers["means"].param_groups[0]["lr"] = lr
-        view = self._next_view()
-        identity = self.masks is not None and step % self.config.identity_every == 0
-        out = render(self._rendered(), self.cameras[view], self.sh_degree, classifier=self.classifier,
-                     depth=self.objective.needs_depth, identity=identity)
-        target = self.images[view].float() / 255.0
+        """One training step on one training view. Its parts are named (`part`) so that a profile can say
+        where a step's time goes (docs/BENCHMARKS.md, "Training")."""
+        part, step = self.part, self.step_index
+        with part("data"):
+            lr = self._means_lr(step)
+            self.optimizers["means"].param_groups[0]["lr"] = lr
+            view = self._next_view()
+            identity = self.masks is not None and step % self.config.identity_every == 0
+            target = self.images[view].float() / 255.0
+        with part("render"):
+            out = render(self._rendered(), self.cameras[view], self.sh_degree, classifier=self.classifier,
+                         depth=self.objective.needs_depth, identity=identity)
         loss = self.objective(self, view, out, target)
-        self.strategy.step_pre_backward(self.params, self.optimizers, self.strategy_state, step, out.info)
-        loss.backward()
-        adam_step((*self.optimizers.values(), self.classifier_opt))
-        self.strategy.after_backward(self.params, self.optimizers, self.strategy_state, step,
-                                     trained_part(out.info, self.fixed_count), lr)
+        with part("strategy"):
+            self.strategy.step_pre_backward(self.params, self.optimizers, self.strategy_state, step, out.info)
+        with part("backward"):
+            loss.backward()
+        with part("optimizer"):
+            adam_step((*self.optimizers.values(), self.classifier_opt))
+        with part("strategy"):
+            self.strategy.after_backward(self.params, self.optimizers, self.strategy_state, step,
+                                         trained_part(out.info, self.fixed_count), lr)
         self.step_index += 1
         return StepResult(loss=loss.detach(), rgb=out.rgb.detach(), target=target)
 
