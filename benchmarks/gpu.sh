@@ -80,8 +80,10 @@ scene() { [ -d "$1" ] && echo "$1" || echo $G/scenes/$1; }
 out() { local d=${RESULTS:-${OUT:-$G/out}}/$1; mkdir -p $d; echo $d; }
 
 judge() {  # $1 scene, the rest flags for `engine remove`; JUDGE_INPAINTER (telea), and a second set of hole masks
-  # made with JUDGE_VARIANT's `holes` flags (--no-see-through), each inpainted and completed with Ref
-  local S=$(scene $1) J=$G/judge/$1 D=$(out judge) I=${JUDGE_INPAINTER:-telea} V=${JUDGE_VARIANT:---no-see-through}
+  # made with JUDGE_VARIANT's `holes` flags (unset: --no-see-through; empty: the same masks) inpainted with
+  # JUDGE_DILATE's `inpaint --dilate` (0), each inpainted and completed with Ref
+  local S=$(scene $1) J=$G/judge/$1 D=$(out judge) I=${JUDGE_INPAINTER:-telea} V=${JUDGE_VARIANT---no-see-through}
+  local W=${JUDGE_DILATE:-0}
   shift; mkdir -p $J
   local target=$(python3 -c "import json,sys; print(next(o['name'] for o in json.load(open(sys.argv[1])) if o.get('target')))" $S/masks/objects.json)
   [ -f $J/run/point_cloud.ply ] || python3 -m engine train --scene $S --out $J/run --device cuda > $J/train.log 2>&1 || { tail -5 $J/train.log; return 1; }
@@ -90,7 +92,7 @@ judge() {  # $1 scene, the rest flags for `engine remove`; JUDGE_INPAINTER (tele
   { python3 -m engine remove --run $R --object "$target" --device cuda "$@" && python3 -m engine holes --run $R &&
     python3 -m engine holes --run $R --out $R/holes_variant $V &&
     python3 -m engine inpaint --run $R --inpainter $I &&
-    python3 -m engine inpaint --run $R --inpainter $I --holes $R/holes_variant --out $R/inpainted_variant &&
+    python3 -m engine inpaint --run $R --inpainter $I --holes $R/holes_variant --out $R/inpainted_variant --dilate $W &&
     python3 -m engine complete --run $R --method reference --inpainter $I --device cuda &&
     python3 -m engine complete --run $R --method reference --inpainter $I --device cuda --inpainted $R/inpainted_variant \
       --out $R/complete_variant; } > $J/chain.log 2>&1 || { tail -5 $J/chain.log; return 1; }

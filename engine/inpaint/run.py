@@ -2,8 +2,11 @@
 
 Reads RUN/removed/{images,depth} and RUN/holes, writes RUN/inpainted/<inpainter>/{images,depth}, config.json
 with timings and the prompt, and sheet_test.png / sheet_train.png (input, removed, hole, inpainted RGB and
-depth per view) atomically. A view with an empty hole is copied through untouched. The mask can be dilated
-first: LaMa fills larger masks better (the paper dilates). With source "input" (the direct baseline,
+depth per view) atomically. A view with an empty hole is copied through untouched. The masks are grown first,
+by GROW_SHARE of the image's width unless --dilate gives the pixels: the removed render's pixels at a hole's
+border are the worst it has (the contact shading relit only in part, a support's edge seen through, blur), and
+an inpainter fills from them; grown, it fills from the surface beyond them and replaces them too (measured in
+docs/BENCHMARKS.md, "Hole masks"; the paper dilates as well). With source "input" (the direct baseline,
 RUN/inpainted/direct-<inpainter>) the object's whole region is filled in the input images instead, RGB
 only; an inpainter that takes no mask (nanobanana, the paper's Init-NanoBanana) always works that way.
 """
@@ -41,6 +44,7 @@ from engine.train.trained_run import load_run_scene
 
 SHEET_ROWS = 6
 PARENT_POLL_S = 1.0  # how often a worker process checks that its parent still runs
+GROW_SHARE = 0.04  # the masks grow by this share of the image width by default (6 px at 160 px, 13 at 320)
 
 
 def _saved_config(inpainted: InpaintedLayout) -> dict:
@@ -50,7 +54,14 @@ def _saved_config(inpainted: InpaintedLayout) -> dict:
 
 def inpainted_dilation(inpainted: InpaintedLayout) -> int:
     """The px an inpainting run grew its masks by (from its config.json): what it filled beyond the holes."""
-    return _saved_config(inpainted).get("dilate", 0)
+    report = json.loads(inpainted.config_json.read_text())
+    return report.get("dilate_px", report["config"].get("dilate", 0))
+
+
+def dilation_px(dilate: int, cameras: list[Camera]) -> int:
+    """The px the masks grow by: `dilate` where it is given (0 or more), else GROW_SHARE of the views' median
+    width (one number for the run: the completions read it back as one, inpainted_dilation)."""
+    return dilate if dilate >= 0 else round(GROW_SHARE * float(np.median([c.width for c in cameras])))
 
 
 def inpainted_holes(inpainted: InpaintedLayout) -> str:
@@ -64,7 +75,7 @@ class InpaintConfig:
     inpainter: str = DEFAULT_INPAINTER  # a name from `engine plugins` (telea, fsr, exemplar, lama, ...)
     model: str = ""  # lama: .pt/.onnx (LAMA_MODEL); diffusion: diffusers folder (DIFFUSION_MODEL); nanobanana: name
     depth_range: str = "foreground"  # global | foreground (the paper's two depth representations)
-    dilate: int = 0  # px added to the hole masks before inpainting
+    dilate: int = -1  # px added to the hole masks before inpainting; -1: GROW_SHARE of the image's width
     prompt: str = ""  # default: the paper's (diffusion: generic; nanobanana: per scene family)
     source: str = "removed"  # removed: the holes of the removed renders; input: the object in the input images
     removed: str = ""  # default RUN/removed
@@ -108,9 +119,10 @@ def run_inpaint(config: InpaintConfig) -> dict:
     sheets = _SheetRows(scene.test)
     workers, parallel = _workers(config, inpainter)
     start = time.perf_counter()
+    grow = dilation_px(config.dilate, scene.cameras)
     with atomic_output_dir(out) as tmp_root:
         tmp = InpaintedLayout(tmp_root)
-        job = _ViewJob(inpainter, config.dilate, prompt, direct, plane, removed, holes, tmp)
+        job = _ViewJob(inpainter, grow, prompt, direct, plane, removed, holes, tmp)
         views = [(scene.images[i], scene.cameras[i]) for i in range(len(scene.cameras))]
         progress = Progress(f"inpaint {config.inpainter}", len(scene.cameras))
         for done, (i, row) in enumerate(_each_view(job, views, workers, parallel), start=1):
@@ -121,9 +133,10 @@ def run_inpaint(config: InpaintConfig) -> dict:
         for split, rows in sheets.rows().items():
             if rows:
                 write_png(tmp.sheet_of(split), np.concatenate(rows, axis=0))
-        report = {"config": dataclasses.asdict(config), "prompt": prompt, "views": len(scene.cameras),
-                  "inpaint_seconds": round(seconds, 2), "workers": workers, "parallel": parallel,
-                  "hole_iou_as_inpainted": None if direct else inpainted_hole_iou(scene, holes, config.dilate)}
+        report = {"config": dataclasses.asdict(config), "dilate_px": grow, "prompt": prompt,
+                  "views": len(scene.cameras), "inpaint_seconds": round(seconds, 2), "workers": workers,
+                  "parallel": parallel,
+                  "hole_iou_as_inpainted": None if direct else inpainted_hole_iou(scene, holes, grow)}
         tmp.config_json.write_text(json.dumps(report, indent=1))
     emit("done", stage="inpaint", out=str(out), seconds=report["inpaint_seconds"])
     return report

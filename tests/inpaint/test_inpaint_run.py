@@ -14,11 +14,12 @@ import pytest
 
 from engine.base.errors import InputError
 from engine.edit.support_plane import removal_plane, stop_at_plane
-from engine.formats.layout import RemovedLayout
+from engine.formats.layout import InpaintedLayout, RemovedLayout
 from engine.inpaint.inpainters.nanobanana import PAPER_PROMPTS
 from engine.inpaint.registry import create
-from engine.inpaint.run import InpaintConfig, _workers, run_inpaint
+from engine.inpaint.run import GROW_SHARE, InpaintConfig, _workers, inpainted_dilation, run_inpaint
 from engine.io.image_io import exr_name, read_depth, read_png
+from engine.io.masks import dilate
 from engine.train.trained_run import load_run_scene
 
 
@@ -26,26 +27,33 @@ from engine.train.trained_run import load_run_scene
 def stages(tiny_stages: dict[str, Path]) -> dict[str, Path]:
     return tiny_stages
 
-def test_fsr_fills_every_hole_and_passes_views_without_one_through(stages):
+def test_fsr_fills_every_hole_grown_and_passes_views_without_one_through(stages):
+    """By default the masks grow by GROW_SHARE of the width (the hole's border pixels are the removed render's
+    worst: they are filled from the surface beyond them, not copied in); nothing past the grown hole changes."""
     out = stages["work"] / "fsr"
     report = run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="fsr", removed=str(stages["removed"]),
                                        holes=str(stages["holes"]), out=str(out)))
     scene = load_run_scene(stages["run"])
     assert report["views"] == len(scene.cameras) and report["prompt"] is None
+    grow = report["dilate_px"]
+    assert grow == round(GROW_SHARE * scene.cameras[0].width) >= 1  # grows nothing when turned off
+    assert inpainted_dilation(InpaintedLayout(out)) == grow  # what the completions read back
     plane = removal_plane(RemovedLayout(stages["removed"]))
     assert plane is not None
-    filled_any = False
+    filled_any = ring_filled = False
     for camera in scene.cameras:
         hole = read_png(stages["holes"] / camera.name, kind="mask") > 0
+        grown = dilate(hole, grow)
         removed = read_png(stages["removed"] / "images" / camera.name)
         filled = read_png(out / "images" / camera.name)
-        assert (filled[~hole] == removed[~hole]).all()
+        assert (filled[~grown] == removed[~grown]).all()
         filled_any |= bool(hole.any() and (filled[hole] != removed[hole]).any())
+        ring_filled |= bool((filled[grown & ~hole] != removed[grown & ~hole]).any())
         depth = read_depth(out / "depth" / exr_name(camera.name))
-        assert np.isfinite(depth[hole]).all()
+        assert np.isfinite(depth[grown]).all()
         # the depth fill stops at the plane the object stood on (nothing in the hole lies beyond it)
-        np.testing.assert_allclose(stop_at_plane(camera, hole, depth, plane, 1e-4), depth)
-    assert filled_any and (out / "sheet_train.png").is_file()
+        np.testing.assert_allclose(stop_at_plane(camera, grown, depth, plane, 1e-4), depth)
+    assert filled_any and ring_filled and (out / "sheet_train.png").is_file()
 
 
 def test_views_inpainted_at_once_give_what_one_after_the_other_gives(stages):
