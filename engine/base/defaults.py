@@ -4,9 +4,10 @@ module of its own at the bottom layer, free of torch and numpy, because the CLI,
 add-on's menus read it.
 
 None qualified at 33d96f8 (every cell finished is below the unfilled hole on livingroom_s100, livingroom_s101
-and statue_s100), so `complete` without --method leaves the hole as removal left it and says so; BEST_ON_MEAN
-(Ref-telea, +1.19 dB over the unfilled hole on the mean of the six scenes whose cells finished) is the fill it
-names for those who fill the hole anyway, and its inpainter is what `inpaint` takes by default.
+and statue_s100), nor at 6f87d43 with the masks grown before inpainting (Ref-telea +3.27, +11.05 and +3.85 dB over
+the unfilled hole on livingroom_s100, tabletop_s100 and wallmount_s100, -7.52 on statue_s100), so `complete`
+without --method leaves the hole as removal left it and says so; BEST_ON_MEAN (Ref-telea) is the fill it names for
+those who fill the hole anyway, and its inpainter is what `inpaint` takes by default.
 """
 
 DEFAULT_METHOD = ""  # "": leave the hole
