@@ -313,8 +313,9 @@ def test_a_warm_init_trains_only_what_renders_into_the_hole_and_leaves_the_rest_
                                                               "cpu"), strict=True):
         outside = ~dilate(grown[camera.name], 2)
         before = read_png(stages["removed"] / "images" / camera.name).astype(float)
-        # measured: 52.9-66.1 dB a view; with every Gaussian trained (the old warm start) the worst view 39.8
-        assert psnr_where(picture.rgb.astype(float), before, outside) > 48, camera.name
+        # measured: 52.9-66.1 dB a view, and 47.8 in one view of one of the fixture's trainings (they differ with
+        # the threads a test worker has); with every Gaussian trained (the old warm start) the worst view 39.8
+        assert psnr_where(picture.rgb.astype(float), before, outside) > 45, camera.name
     after, before = errors_toward(out / "run", with_hole(scene, stages["holes"]), stages["holes"],
                                   inpainted / "images", stages["removed"] / "images")
     assert after < before
