@@ -47,14 +47,20 @@ PARENT_POLL_S = 1.0  # how often a worker process checks that its parent still r
 GROW_SHARE = 0.04  # the masks grow by this share of the image width by default (6 px at 160 px, 13 at 320)
 
 
+def _saved_report(inpainted: InpaintedLayout) -> dict:
+    """What an inpainting run wrote to its config.json: its settings under "config", and what it did."""
+    return json.loads(inpainted.config_json.read_text())
+
+
 def _saved_config(inpainted: InpaintedLayout) -> dict:
     """The settings an inpainting run wrote to its config.json."""
-    return json.loads(inpainted.config_json.read_text())["config"]
+    return _saved_report(inpainted)["config"]
 
 
 def inpainted_dilation(inpainted: InpaintedLayout) -> int:
-    """The px an inpainting run grew its masks by (from its config.json): what it filled beyond the holes."""
-    report = json.loads(inpainted.config_json.read_text())
+    """The px an inpainting run grew its masks by (from its config.json): what it filled beyond the holes. Runs
+    from before the growth's default wrote only the px they were given."""
+    report = _saved_report(inpainted)
     return report.get("dilate_px", report["config"].get("dilate", 0))
 
 
