@@ -81,7 +81,7 @@ class InpaintConfig:
     inpainter: str = DEFAULT_INPAINTER  # a name from `engine plugins` (telea, fsr, exemplar, lama, ...)
     model: str = ""  # lama: .pt/.onnx (LAMA_MODEL); diffusion: diffusers folder (DIFFUSION_MODEL); nanobanana: name
     depth_range: str = "foreground"  # global | foreground (the paper's two depth representations)
-    dilate: int = -1  # px added to the hole masks before inpainting; -1: GROW_SHARE of the image's width
+    dilate: int = -1  # px added to the hole masks before inpainting; -1: 4% of the image's width (GROW_SHARE)
     prompt: str = ""  # default: the paper's (diffusion: generic; nanobanana: per scene family)
     source: str = "removed"  # removed: the holes of the removed renders; input: the object in the input images
     removed: str = ""  # default RUN/removed
