@@ -38,6 +38,12 @@ KEEP_REST = Option("keep_rest", True, "with --no-warm: keep the removed scene ou
                    "scene is in COLMAP's new frame, keeps it whole)")
 
 
+def kept_whole(options: dict) -> bool:
+    """Whether a from-scratch run keeps its whole new scene: --no-keep-rest, or --recolmap (its scene is in COLMAP's
+    new frame); the title's [whole] and the graft both read it."""
+    return not options.get("warm") and bool(options.get("recolmap") or not options.get("keep_rest", True))
+
+
 class NewSceneMethod(CompletionMethod):
     """Trains a new Gaussian Grouping scene from scratch on the inpainted views, with the original run's
     settings and step count (the base class's setup)."""
@@ -46,14 +52,13 @@ class NewSceneMethod(CompletionMethod):
     needs = Needs(packages=("pycolmap (with --recolmap)",))
 
     def title(self, inpainter: str, options: dict) -> str:
-        whole = not options.get("warm") and (options.get("recolmap") or not options.get("keep_rest", True))
         return (super().title(inpainter, options) + ("[colmap]" if options.get("recolmap") else "")
-                + ("[warm]" if options.get("warm") else "") + ("[whole]" if whole else ""))
+                + ("[warm]" if options.get("warm") else "") + ("[whole]" if kept_whole(options) else ""))
 
     def after_train(self, job) -> dict | None:
         """From scratch: the new scene grafted into the removed one at the hole (engine.complete.warm_start.graft)
         unless --no-keep-rest or --recolmap keeps it whole."""
-        if job.options.get("warm") or job.options.get("recolmap") or not job.options.get("keep_rest", True):
+        if job.options.get("warm") or kept_whole(job.options):
             return None
         if not job.holes.root.is_dir():  # Direct needs no hole masks, and without them the hole is unknown
             return {"kept_whole": f"{job.holes.root} missing: run `holes` to keep the rest as removal left it"}
