@@ -17,11 +17,11 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from engine.formats.layout import SceneLayout
 from engine.inpaint.registry import create
+from engine.io.image_io import read_png
 from engine.metrics.image_metrics import psnr_from_mse
 
 OURS = ("telea", "navier-stokes", "fsr", "exemplar")
@@ -59,10 +59,10 @@ def score(scene: Path, fills: dict[str, Callable], every: int) -> dict[str, list
     out: dict[str, list[tuple[float, float]]] = {name: [] for name in fills}
     layout = SceneLayout(scene)
     for path in sorted(layout.holes.iterdir())[::every]:
-        hole = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE) > 0
+        hole = read_png(path, kind="mask") > 0
         if hole.sum() < 20:
             continue
-        truth = cv2.cvtColor(cv2.imread(str(layout.gt / path.name)), cv2.COLOR_BGR2RGB)
+        truth = read_png(layout.gt / path.name)
         blank = truth.copy()
         blank[hole] = 0
         for name, fill in fills.items():
