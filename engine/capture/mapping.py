@@ -8,7 +8,9 @@ matches in seconds. On others the global mapper fails outright (the shared statu
 the incremental one places every photo. So `best` (the default) runs the incremental mapper, and only when it
 leaves photos out, the incremental mapper with a relaxed first pair (RELAXED) and the global mapper, and keeps the
 model that places the most (the earlier one on a tie). On a generated livingroom's 40 photos: incremental 36,
-global 40.
+global 40. The global mapper samples: with more than one thread its result differs from run to run even with a
+fixed seed (on a 40-frame video of that orbit it placed 40 in five runs of six and 34 in one; 27 once on another
+machine), so where it too leaves photos out `best` runs it once more with the next seed (`global-reseeded`).
 
 A photo left out gets the first reason that holds: it went into a smaller model; it is blurred (the variance of
 its Laplacian under BLUR_SHARE of the set's median); it has too few verified matches with any other photo (under
@@ -43,15 +45,17 @@ class Mapped:
     elsewhere: dict[str, int] = field(default_factory=dict)
 
 
-def map_photos(database: Path, images: Path, work: Path, mapper: str, threads: int, token, progress) -> Mapped | None:
+def map_photos(database: Path, images: Path, work: Path, mapper: str, threads: int, token, progress,
+               seed: int = 0) -> Mapped | None:
     """The reconstruction placing the most photos among the attempts `mapper` names (see the module docstring);
-    None when cancelled. `progress()` is called per image the incremental mapper registers."""
+    None when cancelled. `progress()` is called per image the incremental mapper registers. `seed` is the
+    mappers' sampling seed (COLMAP's default, -1, draws a new one each run)."""
     total = _image_count(database)
-    attempts = {"best": ("incremental", "incremental-relaxed", "global"), "incremental": ("incremental",),
-                "global": ("global",)}[mapper]
+    attempts = {"best": ("incremental", "incremental-relaxed", "global", "global-reseeded"),
+                "incremental": ("incremental",), "global": ("global",)}[mapper]
     kept: Mapped | None = None
     for attempt in attempts:
-        models = _run(attempt, database, images, work / attempt, threads, token, progress)
+        models = _run(attempt, database, images, work / attempt, threads, token, progress, seed)
         if token.is_cancelled:
             return None
         placed = max((m.num_reg_images() for m in models.values()), default=0)
@@ -73,17 +77,17 @@ def placed_names(model) -> set[str]:
     return {model.images[i].name for i in model.reg_image_ids()}
 
 
-def _run(attempt: str, database: Path, images: Path, out: Path, threads: int, token, progress) -> dict:
+def _run(attempt: str, database: Path, images: Path, out: Path, threads: int, token, progress, seed: int) -> dict:
     import pycolmap
 
     shutil.rmtree(out, ignore_errors=True)
     out.mkdir(parents=True)
-    if attempt == "global":  # GLOMAP takes no cancellation token: a stop waits for it to finish
+    if attempt.startswith("global"):  # GLOMAP takes no cancellation token: a stop waits for it to finish
         options = pycolmap.GlobalPipelineOptions()
-        options.num_threads = threads
+        options.num_threads, options.random_seed = threads, seed + (attempt == "global-reseeded")
         return pycolmap.global_mapping(database, images, out, options=options)
     options = pycolmap.IncrementalPipelineOptions()
-    options.num_threads = threads
+    options.num_threads, options.random_seed = threads, seed
     if attempt == "incremental-relaxed":
         for name, value in RELAXED.items():
             setattr(options.mapper, name, value)

@@ -47,6 +47,7 @@ class CaptureConfig:
     mapper: str = "best"  # best (incremental; relaxed and global where it leaves photos out) | incremental | global
     min_registered: float = 0.5  # refuse when SfM registers fewer than this share of the images
     threads: int = -1  # CPU threads for SfM (-1: all)
+    seed: int = 0  # the mappers' sampling seed (one thread: the same scene each run; COLMAP's -1 draws one a run)
 
 
 def run_capture(config: CaptureConfig) -> dict:
@@ -212,7 +213,7 @@ def _mapping(images: Path, work: Path, config: CaptureConfig, token, total: int)
 
     shutil.rmtree(work / "sparse", ignore_errors=True)
     mapped = map_photos(work / "database.db", images, work / "sparse", config.mapper, config.threads, token,
-                        registered)
+                        registered, seed=config.seed)
     progress.close()
     if token.is_cancelled:
         return None
