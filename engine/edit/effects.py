@@ -16,7 +16,8 @@ shadow scales every albedo under it by the same factor, so the texture it darken
 3. The shadowed Gaussians: the remaining ones inside that cast footprint and within a band around the plane,
    or reaching into it from below (3DGS builds a surface out of a layer of Gaussians, some well below it), except
    those where the object touched its support (no view saw them: that is the hole's business) and the support in
-   other objects' own cast shadows along the same light (their_shadows: without the object those stay).
+   other objects' own cast shadows along the same light (their_shadows: without the object those stay), nor
+   where the darkness runs on past both ends of the object's shadow (passing_shadows: a tree out of view).
 4. Relit: multiplied, colour and view-dependent terms alike, by the lit/shadow ratio of the views' samples
    per channel, each Gaussian by the share of its nearest samples that are dark; then, measured again on the
    relit renders, by what the dark samples still lack of the gain (residual_gain), once.
@@ -35,6 +36,7 @@ import numpy as np
 import torch
 
 from engine.base.knn import knn
+from engine.edit.passing_shadows import passing_shadows
 from engine.edit.plane_grid import PlaneFrame, PlaneGrid, Site, surface_spacing
 from engine.formats.cameras import Camera, backproject
 from engine.formats.splat_ply import SH_C0
@@ -163,15 +165,7 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     obj_sample = obj[rng.choice(len(obj), min(len(obj), 6000), replace=False)]
     apart = surface_spacing(obj_sample)
 
-    def covered(el: float, az: float) -> float:
-        return _missing_light(grid.shadowed(frame, frame.light(el, az), obj_sample, points, apart), log_y,
-                              config.min_contrast)
-
-    coarse = [(el, az) for el in np.arange(15.0, 86.0, 5.0) for az in np.arange(0.0, 360.0, 6.0)]
-    best = max(coarse, key=lambda d: covered(*d))
-    fine = [(best[0] + de, best[1] + da) for de in np.arange(-5.0, 5.1, 1.25) for da in np.arange(-6.0, 6.1, 1.5)
-            if 10.0 <= best[0] + de <= 89.0]
-    best = max(fine, key=lambda d: covered(*d))
+    best = _search_light(site, obj_sample, apart, points, log_y, config)
     light = frame.light(*best)
     inside = grid.shadowed(frame, light, obj, points, site.spacing)
     evidence.update(light_elevation_deg=float(best[0]), light_azimuth_deg=float(best[1] % 360),
@@ -188,18 +182,42 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     shadowed = around(means, config.band_below, site.reach_up(remaining))
     shadowed[shadowed] = grid.cells(cast, frame.cast(means[shadowed], light))
     dark = inside & (np.median(log_y[~inside]) - log_y > config.min_contrast)
-    lit_edge = ~inside & grid.cells(cv2.dilate(cast.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0,
-                                     frame.cast(points, light))
+    theirs, samples_theirs = their_shadows(site, light, means, others, points)
+    under = footprint | grid.raster(frame.flat(obj_sample), apart)
+    passing = passing_shadows(grid, frame, light, cast, under, frame.cast(points, light),
+                              np.median(log_y[~inside]) - log_y, score, ring=3)
+    passes = grid.cells(passing, frame.cast(means, light))
+    evidence.update(left_in_their_shadows=int((shadowed & theirs).sum()),
+                    left_in_passing_shadows=int((shadowed & passes & ~theirs).sum()))
+    theirs |= passes
+    samples_theirs |= grid.cells(passing, frame.cast(points, light))
+    shadowed &= ~theirs
+    lit_edge = ~inside & ~samples_theirs & grid.cells(cv2.dilate(cast.astype(np.uint8), np.ones((7, 7), np.uint8))
+                                                       > 0, frame.cast(points, light))
     colors = srgb_to_linear(samples.colors[pick])  # a shadow scales light, and light adds up in linear values
     gain = np.clip((trimmed_mean(colors[lit_edge]) + LINEAR_EPS) / (trimmed_mean(colors[dark]) + LINEAR_EPS), 1.0,
                    MAX_GAIN) if lit_edge.sum() >= 20 and dark.sum() >= 20 else np.ones(3)
-    theirs, samples_theirs = their_shadows(site, light, means, others, points)
-    evidence.update(left_in_their_shadows=int((shadowed & theirs).sum()))
-    shadowed &= ~theirs
     return ShadowSearch(Shadow(shadowed=shadowed, darkness=_darkness(means[shadowed], points, dark), gain=gain,
                                elevation=float(best[0]), azimuth=float(best[1] % 360), contrast=score,
                                pick=pick, dark=dark & ~samples_theirs, lit=lit_edge, theirs=theirs),
                         "found", evidence)
+
+
+def _search_light(site: Site, obj_sample: np.ndarray, apart: float, points: np.ndarray, log_y: np.ndarray,
+                  config: EffectsConfig) -> tuple[float, float]:
+    """The light (elevation, azimuth in degrees) whose cast footprint of the object covers the views' dark
+    samples best (_missing_light): every 5 degrees of elevation and 6 of azimuth, then finer around the best."""
+    frame, grid = site.frame, site.grid
+
+    def covered(el: float, az: float) -> float:
+        return _missing_light(grid.shadowed(frame, frame.light(el, az), obj_sample, points, apart), log_y,
+                              config.min_contrast)
+
+    coarse = [(el, az) for el in np.arange(15.0, 86.0, 5.0) for az in np.arange(0.0, 360.0, 6.0)]
+    best = max(coarse, key=lambda d: covered(*d))
+    fine = [(best[0] + de, best[1] + da) for de in np.arange(-5.0, 5.1, 1.25) for da in np.arange(-6.0, 6.1, 1.5)
+            if 10.0 <= best[0] + de <= 89.0]
+    return max(fine, key=lambda d: covered(*d))
 
 
 def trimmed_mean(values: np.ndarray, cut: float = 10.0) -> np.ndarray:
