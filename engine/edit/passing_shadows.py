@@ -8,6 +8,9 @@ completion then painted a lit slab where the truth keeps the band (Ref-telea 14.
 21.53 for the unfilled hole). What the views show says it instead: the object's own shadow ends where the object
 stops blocking the light, so along the light's direction across the plane it is lit just past both of its ends (past
 the tip, and on the object's sunlit side); a band from elsewhere is dark on past them.
+
+Two uses: `band_lines` keeps such bands out of the light's search (a band along the light rewards a longer
+cast, so a low sun won), `passing_shadows` keeps them dark once the light is found.
 """
 
 from __future__ import annotations
@@ -17,8 +20,9 @@ import numpy as np
 
 from engine.edit.plane_grid import PlaneFrame, PlaneGrid
 
-WINDOW = 4  # cells past the object's cast (and the plane under it) whose samples say whether the darkness runs on
-POOL = 5  # each cell speaks for the samples of the POOL x POOL cells around it outside the cast (a cell holds ~1)
+WINDOW = 8  # cells past the object's cast (and the plane under it) whose samples say whether the darkness runs on
+POOL = 3  # each cell speaks for the samples of the POOL x POOL cells around it outside the cast (a cell holds ~1)
+LINE_DEPTH, LINE_POOL = 4, 5  # band_lines: cells past the object's sunlit side, and lines pooled across
 MIN_SAMPLES = 8  # a side with fewer samples in its window says nothing
 DARK_SHARE = 0.5  # a side counts as dark at half the shadow's own contrast or more (a two-tone texture: ~0.1 of it)
 
@@ -51,6 +55,32 @@ def passing_shadows(grid: PlaneGrid, frame: PlaneFrame, light: np.ndarray, cast:
     out = np.zeros_like(cast)
     out[cells[runs_on, 0], cells[runs_on, 1]] = True
     return out
+
+
+def band_lines(frame: PlaneFrame, light: np.ndarray, obj_flat: np.ndarray, flat: np.ndarray, contrast: np.ndarray,
+               cell: float, threshold: float) -> np.ndarray:
+    """(P,) bool: the samples (`flat`, in-plane) on lines along the light's direction across the plane that are
+    dark (mean `contrast` at least `threshold`) just past the object on its sunlit side, where its own shadow
+    never falls. Such a line is a band from something farther towards the light (a tree out of view); for the
+    light's search its samples say nothing, as they are dark whatever the elevation. Lines are LINE_DEPTH cells deep
+    past the object and pooled LINE_POOL cells across."""
+    u = np.array([light @ frame.a, light @ frame.b])
+    if np.linalg.norm(u) < 1e-6:
+        return np.zeros(len(flat), bool)
+    u /= np.linalg.norm(u)
+    v = np.array([-u[1], u[0]])
+    edge = float((obj_flat @ u).max())
+    along, across = flat @ u - edge, flat @ v
+    lo = float(min((obj_flat @ v).min(), across.min()))
+    line = np.floor((across - lo) / cell).astype(int)
+    sunward = (along > cell) & (along <= (1 + LINE_DEPTH) * cell)
+    bins = int(line.max()) + 1
+    count = np.bincount(line[sunward], minlength=bins).astype(float)
+    total = np.bincount(line[sunward], weights=contrast[sunward], minlength=bins)
+    kernel = np.ones(LINE_POOL)
+    count, total = np.convolve(count, kernel, "same"), np.convolve(total, kernel, "same")
+    dark = (count >= MIN_SAMPLES) & (total >= threshold * np.maximum(count, 1.0))
+    return dark[line]
 
 
 def _per_cell(grid: PlaneGrid, flat: np.ndarray, contrast: np.ndarray, blocked: np.ndarray
