@@ -37,7 +37,7 @@ import torch
 from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
-from engine.base.progress import emit
+from engine.base.progress import emit, say
 from engine.capture.scene import Scene, SceneObject
 from engine.formats.cameras import Camera, backproject, project, sample_nearest
 from engine.formats.layout import RunLayout, SegmentsLayout
@@ -50,7 +50,7 @@ from engine.pictures.preview import colorize_ids, label
 from engine.render.rasterize import CameraTensors, render
 from engine.render.render_views import render_depths
 from engine.segment.proposals import propose
-from engine.segment.saliency_votes import VoteConfig, salient_votes, subject, voting_views
+from engine.segment.saliency_votes import VoteConfig, salient_votes, subject, voting_views, weak_evidence
 from engine.segment.salient import SalientNet
 from engine.train.segment_objects import identity_of, read_segment_objects
 
@@ -194,6 +194,10 @@ def run_segment(run, config: SegmentConfig) -> dict:
         objects = [SceneObject(int(i), f"object_{i}", False) for i in range(1, int(ids.max(initial=0)) + 1)]
         if config.auto and objects:
             stats["subject_share"] = round(float((ids == 1).mean()), 4)  # object_1's share of the scene's Gaussians
+            stats["weak_evidence"] = weak_evidence(stats) if config.salient else []
+            for reason in stats["weak_evidence"]:
+                say(f"segment --auto: {reason}. Look at {out.sheet}; to pick the subject yourself, click it: "
+                    "--point U V --view IMAGE")
     if not objects:
         raise InputError(f"no object found in {run.root} ({stats}): check the masks (0 = unlabelled), or "
                          "select one with --box or --indices")

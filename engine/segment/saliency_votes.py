@@ -127,3 +127,22 @@ def pedestal_cut(points: np.ndarray, colours: np.ndarray, up: np.ndarray, voxel:
         if wide >= PEDESTAL_FOOTPRINT * narrow and contrast >= PEDESTAL_COLOUR:
             return float(height.min() + cut * voxel)
     return None
+
+
+SHARE_RANGE = (0.02, 0.5)  # a subject outside this share of the scene's Gaussians is worth a second look
+
+
+def weak_evidence(stats: dict) -> list[str]:
+    """Why object_1, the subject `segment --auto` found (its report `stats`), may not be what the photos are
+    about; empty when nothing says so. Why: on real captures the subject came out as a patch of a plush toy's
+    back (3,853 of 300,000 Gaussians, about 1%) and as a skull with most of its room (78%), both without a word;
+    a user should look at the segments sheet before removing it, and knows the click that fixes it."""
+    if stats.get("subject") is None:
+        return ["no salient object stands free of the supports: object_1 is the geometry's first proposal"]
+    share, (low, high) = stats.get("subject_share", 0.0), SHARE_RANGE
+    if share < low:
+        return [f"object_1 holds {share:.1%} of the scene's Gaussians: it may be a part of the subject"]
+    if share > high:
+        return [f"object_1 holds {share:.0%} of the scene's Gaussians: part of the scene around it may have gone "
+                "with it"]
+    return []

@@ -18,6 +18,7 @@ from engine.io.image_io import read_png, write_png
 from engine.metrics.segment_scores import association_accuracy, iou, perturb_masks, proposal_scores
 from engine.segment.proposals import split_pieces
 from engine.segment.run import SegmentConfig, lift_masks, run_segment
+from engine.segment.saliency_votes import weak_evidence
 from engine.train.trained_run import load_run, load_run_scene
 from tests.conftest import setup_weight
 
@@ -106,8 +107,20 @@ def test_auto_finds_the_target_without_masks(run_copy: Path, tmp_path: Path):
     sizes = {o["name"]: o["gaussians"] for o in json.loads((run_copy / "segments" / "objects.json").read_text())}
     assert report["subject_share"] == pytest.approx(sizes["object_1"] / len(load_run(run_copy).gaussians["means"]),
                                                     abs=1e-4)
+    assert report["weak_evidence"] == [], report  # a whole object, a few percent of the scene
     removal = run_removal(RemovalConfig(run=str(run_copy), object="object_1", out=str(tmp_path / "r"), device="cpu"))
     assert removal["removed"] > 0
+
+
+@pytest.mark.parametrize(("stats", "says"), [({"subject": None}, "no salient object"),
+                                             ({"subject": "votes", "subject_share": 0.0128}, "1.3%"),
+                                             ({"subject": "votes", "subject_share": 0.7776}, "78%"),
+                                             ({"subject": "votes", "subject_share": 0.1296}, None)])
+def test_auto_says_when_its_subject_may_not_be_the_one(stats: dict, says: str | None):
+    """The real captures' subjects: a patch of a plush toy's back (1.3% of the Gaussians), a skull with most of
+    its room (78%), the statue (13%, right)."""
+    reasons = weak_evidence(stats)
+    assert (reasons == []) if says is None else (len(reasons) == 1 and says in reasons[0]), reasons
 
 
 def test_a_click_in_one_view_gives_the_object_under_it(run_copy: Path):
