@@ -53,6 +53,8 @@ class TrainConfig:
     lr_classifier: float = 5e-4  # learning rate of the per-pixel linear classifier
     ssim_weight: float = 0.2  # photometric loss: (1 - w) L1 + w (1 - SSIM)
     fused_ssim: bool = False  # the SSIM term by the fussim package's CUDA kernel (a measured lead; CUDA only)
+    colour_correction: bool = False  # a colour matrix and offset per training view, learned (engine.train.view_colours)
+    lr_colours: float = 1e-3  # learning rate of the per-view colour corrections
     identity_weight: float = 1.0  # weight of the identity cross-entropy (divided by log of the class count)
     identity_every: int = 4  # render and train the identities on every Nth step only (1: every step, the paper's)
     reg3d_every: int = 5  # the 3D KNN regulariser runs on every Nth identity step

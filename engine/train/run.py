@@ -137,6 +137,8 @@ def _finish(trainer: Trainer, scene, run: Path) -> dict:
                    device=str(trainer.device), gpu=gpu_name(trainer.device), versions=versions(),
                    peak_gpu_mb=(round(torch.cuda.max_memory_allocated() / 2**20, 1)
                                 if trainer.device.type == "cuda" else None))
+    if trainer.colours is not None:  # how far the photos' exposures strayed (the scene renders without them)
+        metrics["view_colours"] = trainer.colours.report()
     _write_json(RunLayout(run).metrics_json, metrics)
     emit("done", run=str(run), **{k: v for k, v in metrics.items() if isinstance(v, (int, float, str))})
     return metrics

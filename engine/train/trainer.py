@@ -8,6 +8,7 @@ scale regularisers.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import random
 from collections.abc import Callable
@@ -28,6 +29,7 @@ from engine.train.config import TrainConfig
 from engine.train.identity_regularizer import IdentityRegularizer
 from engine.train.photometric_loss import photometric_loss
 from engine.train.strategies import BudgetStrategy, GrowStrategy, make_strategy
+from engine.train.view_colours import ViewColours
 
 
 def scene_extent(scene: Scene) -> float:
@@ -159,6 +161,8 @@ class Trainer:
         self.images = {i: torch.as_tensor(scene.images[i], device=device) for i in scene.train}
         self.masks = ({i: torch.as_tensor(scene.masks[i], device=device).long() for i in scene.train}
                       if scene.masks is not None else None)
+        self.colours = (ViewColours(self.train_views, device, config.lr_colours) if config.colour_correction
+                        else None)
         self.step_index = 0
         self.seconds = 0.0
         self.part: Callable[[str], AbstractContextManager] = no_part  # names a step's parts for a profiler
@@ -204,13 +208,18 @@ class Trainer:
         with part("render"):
             out = render(self._rendered(), self.cameras[view], self.sh_degree, classifier=self.classifier,
                          depth=self.objective.needs_depth, identity=identity)
+            if self.colours is not None:  # the view's photo's exposure and white balance
+                out = dataclasses.replace(out, rgb=self.colours(view, out.rgb))
         loss = self.objective(self, view, out, target)
         with part("strategy"):
             self.strategy.step_pre_backward(self.params, self.optimizers, self.strategy_state, step, out.info)
         with part("backward"):
             loss.backward()
         with part("optimizer"):
-            adam_step((*self.optimizers.values(), self.classifier_opt))
+            adam_step((*self.optimizers.values(), self.classifier_opt,
+                       *(() if self.colours is None else (self.colours.optimizer,))))
+            if self.colours is not None:
+                self.colours.recentre()
         with part("strategy"):
             self.strategy.after_backward(self.params, self.optimizers, self.strategy_state, step,
                                          trained_part(out.info, self.fixed_count), lr)
@@ -254,6 +263,7 @@ class Trainer:
             "cuda_rng": torch.cuda.get_rng_state() if self.device.type == "cuda" else None,
             "python_rng": random.getstate(), "regularizer": self.regularizer.state_dict(),
             "fixed": self.fixed_count, "objective": type(self.objective).__name__,
+            "colours": None if self.colours is None else self.colours.state_dict(),
         }
 
     def load_state_dict(self, state: dict) -> None:
@@ -273,6 +283,8 @@ class Trainer:
             optimizer.load_state_dict(state["optimizers"][name])
         self.classifier.load_state_dict(state["classifier"])
         self.classifier_opt.load_state_dict(state["classifier_opt"])
+        if self.colours is not None and state.get("colours") is not None:
+            self.colours.load_state_dict(state["colours"])
         self.strategy_state = {k: (v.to(self.device) if torch.is_tensor(v) else v)
                                for k, v in state["strategy_state"].items()}
         self.order = list(state["order"])
