@@ -79,8 +79,9 @@ class Shadow:
     dark: np.ndarray | None = None
     lit: np.ndarray | None = None
     residual: np.ndarray | None = None  # (3,) the second relight's gain, once residual_gain has measured it
-    # (N,) bool over the remaining Gaussians: the support in another object's own cast shadow along this light,
-    # which the relights and the contact shade leave dark (gt/ keeps those shadows); all False without others
+    # (N,) bool over the remaining Gaussians: the support in another object's own cast shadow along this light, or
+    # in darkness running on past the object's (passing_shadows), which the relights and the contact shade leave
+    # dark (gt/ keeps those shadows)
     theirs: np.ndarray | None = None
 
     def report(self) -> dict:
