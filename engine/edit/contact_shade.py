@@ -25,7 +25,7 @@ import cv2
 import numpy as np
 
 from engine.edit.effects import LINEAR_EPS, LUMA, EffectsConfig, Samples, darker_share, support_only
-from engine.edit.plane_grid import Site
+from engine.edit.plane_grid import Site, pooled_sums
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import srgb_to_linear
 from engine.io.masks import dilate
@@ -95,13 +95,6 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
 def _window_mean(size: int, ij: np.ndarray, values: np.ndarray, use: np.ndarray, width: int) -> np.ndarray:
     """(size, size, C) mean of the `values` (M, C) of samples in cells `ij` that `use` over a window `width`
     cells wide around each cell; NaN where it holds fewer than MIN_SAMPLES."""
-    sums = np.zeros((size, size, values.shape[1]), np.float64)
-    counts = np.zeros((size, size), np.float64)
-    np.add.at(sums, (ij[use, 0], ij[use, 1]), values[use])
-    np.add.at(counts, (ij[use, 0], ij[use, 1]), 1.0)
-    box = (width, width)
-    sums = np.stack([cv2.boxFilter(sums[..., c], -1, box, normalize=False, borderType=cv2.BORDER_CONSTANT)
-                     for c in range(values.shape[1])], -1)
-    counts = cv2.boxFilter(counts, -1, box, normalize=False, borderType=cv2.BORDER_CONSTANT)
+    sums, counts = pooled_sums(size, ij, values, use, width)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where((counts >= MIN_SAMPLES)[..., None], sums / counts[..., None], np.nan)

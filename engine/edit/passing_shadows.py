@@ -18,7 +18,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from engine.edit.plane_grid import PlaneFrame, PlaneGrid
+from engine.edit.plane_grid import PlaneFrame, PlaneGrid, pooled_sums
 
 WINDOW = 8  # cells past the object's cast (and the plane under it) whose samples say whether the darkness runs on
 POOL = 3  # each cell speaks for the samples of the POOL x POOL cells around it outside the cast (a cell holds ~1)
@@ -87,15 +87,10 @@ def _per_cell(grid: PlaneGrid, flat: np.ndarray, contrast: np.ndarray, blocked: 
               ) -> tuple[np.ndarray, np.ndarray]:
     """Per cell, how many samples fall in the POOL x POOL cells around it and the sum of their contrasts, the
     `blocked` cells' own left out (the shadow's samples must not say that what lies past it is dark)."""
-    count = np.zeros((grid.size, grid.size))
-    total = np.zeros((grid.size, grid.size))
     ij, ok = grid.index(flat)
     ok &= ~blocked[np.clip(ij[:, 0], 0, grid.size - 1), np.clip(ij[:, 1], 0, grid.size - 1)]
-    np.add.at(count, (ij[ok, 0], ij[ok, 1]), 1.0)
-    np.add.at(total, (ij[ok, 0], ij[ok, 1]), contrast[ok])
-    pool = (POOL, POOL)
-    return (cv2.boxFilter(count, -1, pool, normalize=False, borderType=cv2.BORDER_CONSTANT),
-            cv2.boxFilter(total, -1, pool, normalize=False, borderType=cv2.BORDER_CONSTANT))
+    sums, counts = pooled_sums(grid.size, ij, contrast[:, None], ok, POOL)
+    return counts, sums[..., 0]
 
 
 def _side(cells: np.ndarray, direction: np.ndarray, blocked: np.ndarray, count: np.ndarray, total: np.ndarray,

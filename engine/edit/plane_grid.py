@@ -86,6 +86,20 @@ class PlaneGrid:
         return self.cells(self.raster(frame.cast(obj, light), spacing), frame.cast(points, light))
 
 
+def pooled_sums(size: int, ij: np.ndarray, values: np.ndarray, use: np.ndarray, width: int
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """(size, size, C) sums of the `values` (M, C) of the samples in cells `ij` that `use`, over a window `width`
+    cells wide around each cell, and (size, size) how many samples each window holds."""
+    sums = np.zeros((size, size, values.shape[1]), np.float64)
+    counts = np.zeros((size, size), np.float64)
+    np.add.at(sums, (ij[use, 0], ij[use, 1]), values[use])
+    np.add.at(counts, (ij[use, 0], ij[use, 1]), 1.0)
+    box = (width, width)
+    sums = np.stack([cv2.boxFilter(sums[..., c], -1, box, normalize=False, borderType=cv2.BORDER_CONSTANT)
+                     for c in range(values.shape[1])], -1)
+    return sums, cv2.boxFilter(counts, -1, box, normalize=False, borderType=cv2.BORDER_CONSTANT)
+
+
 def surface_spacing(points: np.ndarray, most: int = 6000) -> float:
     """How far apart neighbouring `points` of a sampled surface lie: the 90th percentile of their
     nearest-neighbour distances, the widest gap a raster of them should close. Of more than `most` points a
