@@ -14,7 +14,7 @@ from conftest import setup_weight
 
 from engine.base.errors import InputError
 from engine.inpaint.run import InpaintConfig, run_inpaint
-from engine.io.image_io import read_png
+from engine.io.image_io import read_png, write_png
 from engine.io.masks import dilate
 from engine.train.trained_run import load_run_scene
 
@@ -48,18 +48,36 @@ def with_hole(scene, masks: Path) -> list[int]:
     return [i for i in scene.train if (read_png(masks / scene.cameras[i].name, kind="mask") > 0).any()]
 
 
+def painted_fill(fsr: Path, holes: Path, out: Path) -> Path:
+    """The fsr folder with every hole painted one flat colour far from the scene's: fsr's fill on the tiny run
+    is within 10 grey levels of the unfilled render in 71% of the hole pixels (measured), so whether a
+    completion carried it into 3D cannot be told from its renders; a fill as any user's own inpainter might
+    hand over (`complete --inpainted`) that differs everywhere can."""
+    import shutil
+
+    shutil.copytree(fsr, out)
+    for image in sorted((out / "images").glob("*.png")):
+        hole = read_png(holes / image.name, kind="mask") > 0
+        if hole.any():
+            rgb = read_png(image)
+            rgb[hole] = (230, 30, 200)
+            write_png(image, rgb)
+    return out
+
+
 def test_init_completion_trains_on_the_inpainted_views_and_carries_the_fill_into_3d(stages, tmp_path):
-    """Init-fsr with the run's own 800 steps: the training images are the inpainted renders inside the
-    object's region and the input images outside it; the new scene's renders inside the holes moved toward
-    the fill. m-PSNR is scored beside the unfilled scene's (see errors_toward for why it is not asserted)."""
+    """Init with the run's own 800 steps: the training images are the inpainted renders inside the object's
+    region and the input images outside it; the new scene's renders inside the holes moved toward the fill.
+    m-PSNR is scored beside the unfilled scene's (see errors_toward for why it is not asserted)."""
     from engine.complete.run import CompleteConfig, run_complete
     from engine.complete.scoring import score_run
     from engine.metrics.scores import ScoreConfig, Scorer
     from engine.train.trained_run import load_run
 
-    inpainted = stages["work"] / "fsr-for-init"
+    fsr = stages["work"] / "fsr-for-init"
     run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="fsr", removed=str(stages["removed"]),
-                              holes=str(stages["holes"]), out=str(inpainted), dilate=1))
+                              holes=str(stages["holes"]), out=str(fsr), dilate=1))
+    inpainted = painted_fill(fsr, stages["holes"], tmp_path / "painted")
     out = tmp_path / "Init-fsr"
     report = run_complete(CompleteConfig(run=str(stages["run"]), method="init", inpainter="fsr",
                                          inpainted=str(inpainted), removed=str(stages["removed"]), out=str(out),
@@ -86,7 +104,9 @@ def test_init_completion_trains_on_the_inpainted_views_and_carries_the_fill_into
         assert (scene.images[i][far] == original.images[i][far]).all()
     after, before = errors_toward(out / "run", with_hole(scene, stages["holes"]), stages["holes"],
                                   inpainted / "images", stages["removed"] / "images")
-    assert after < before
+    # measured 42.3 against 85.9: the views' holes disagree (IoU 0.2-0.4), so no 3D scene paints all of them;
+    # a scene that never saw the painted fill stays at the unfilled render's error
+    assert after < 0.75 * before
 
 
 def test_ref_carries_one_views_fill_into_the_others_holes_and_trains_on_it(stages, tmp_path):
