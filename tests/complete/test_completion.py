@@ -164,6 +164,11 @@ def fsr_for_ft(stages) -> Path:
     return inpainted
 
 
+def painted_for_ft(stages) -> Path:
+    painted = stages["work"] / "painted-for-ft"
+    return painted if painted.exists() else painted_fill(fsr_for_ft(stages), stages["holes"], painted)
+
+
 @pytest.mark.parametrize("refs, perceptual", [(3, "l1"), (0, "lpips"), (3, "st-lpips")])
 def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_path, monkeypatch, refs, perceptual):
     """FT(3) with the L1 perceptual term, FT(All) with LPIPS on tiny random weights made here, and FT(3) with
@@ -173,7 +178,7 @@ def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_
     from engine.complete.run import CompleteConfig, run_complete
     from engine.io.ply_io import load_ply
 
-    inpainted = fsr_for_ft(stages)
+    inpainted = painted_for_ft(stages)
     backbone, heads = save_tiny_lpips_weights(tmp_path)
     monkeypatch.setenv("ST_LPIPS_WEIGHTS", str(setup_weight("alex_shift_tolerant.pth")))
     out = tmp_path / "ft"
@@ -190,8 +195,8 @@ def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_
     for key, value in before.items():  # the published code's freeze fails; ours holds bit for bit
         assert torch.equal(after[key][:n], value), key
     # it fits its objective: inside the holes of the reference views, where the masked L1 pulls it, the render
-    # moved toward the inpainted images (measured on tiny runs of three seeds: 4.9 vs 6.0, 3.9 vs 4.3, 4.5 vs
-    # 8.1 mean absolute error)
+    # moved toward the painted fill (mean absolute error 36.6, 24.5, 35.6 against the unfilled 84.4-85.9; with
+    # fsr's own fill, which the unfilled render nearly is, 3.9 vs 4.3 on one seed)
     from engine.complete.finetune import reference_views
     from engine.io.masks import read_masks
 
@@ -199,7 +204,7 @@ def test_finetune_freezes_the_original_gaussians_and_fills_the_hole(stages, tmp_
     views = reference_views(read_masks(stages["holes"], scene.cameras), scene.train, refs)
     after, unfilled = errors_toward(out / "run", views, stages["holes"], inpainted / "images",
                                     stages["removed"] / "images")
-    assert after < unfilled
+    assert after < 0.75 * unfilled
 
 
 def test_finetune_without_lpips_weights_says_how_to_go_on(stages, tmp_path, monkeypatch):
