@@ -19,8 +19,9 @@ shadow scales every albedo under it by the same factor, so the texture it darken
    other objects' own cast shadows along the same light (their_shadows: without the object those stay), nor
    where the darkness runs on past both ends of the object's shadow (passing_shadows: a tree out of view).
 4. Relit: multiplied, colour and view-dependent terms alike, by the lit/shadow ratio of the views' samples
-   per channel, each Gaussian by the share of its nearest samples that are dark; then, measured again on the
-   relit renders, by what the dark samples still lack of the gain (residual_gain), once.
+   per channel (the lit ones past the shadow's soft edge), each Gaussian by the share of its nearest samples that are dark; then, measured again on the
+   relit renders, by what the dark samples still lack of the gain (residual_gain), in rounds until they lack
+   under 2% (engine.edit.removal._relit_to_gain).
 
 Per view, the effect mask is where the shadowed Gaussians give at least half of a pixel's opacity. Measured
 in docs/BENCHMARKS.md ("Removal and its effects").
@@ -48,7 +49,11 @@ from engine.render.rasterize import CameraTensors, default_backend, rasterize
 LUMA = np.array([0.2126, 0.7152, 0.0722])
 LINEAR_EPS = 1e-4  # added to linear values before a ratio (1e-3 in sRGB values is about 8e-5 linear)
 MAX_GAIN = 8.0 ** 2.4  # the cast shadow's gain, at most, in linear values (8 in sRGB values)
-MAX_RESIDUAL = 4.0 ** 2.4  # the second relight's, at most (4 in sRGB values)
+MAX_RESIDUAL = 4.0 ** 2.4  # each later relight's, at most (4 in sRGB values)
+# the lit samples the gain is measured on: LIT_GAP cells (a twelfth of the object's radius each) past its cast, in a
+# ring LIT_RING wide. Why a gap: a shadow's edge fades (a sun's penumbra, a render's blur), and lit samples next to
+# it made the gain 0.66-0.92 of the truth's on tiny CPU runs (0.93-0.97 with the gap)
+LIT_GAP, LIT_RING = 2, 3
 BAND_CONTRAST = 1.5  # a line past the object's sunlit side this dark (x min_contrast, mean) is a band: a checker
 # of two tones averages ~0.6 x min_contrast there, a shadow 1.7-3 x
 
@@ -74,11 +79,12 @@ class Shadow:
     azimuth: float  # degrees, in the plane's own frame
     contrast: float  # median log-luminance outside minus inside
     # which of the views' samples the gain was measured on: `pick` into Samples.from_views' list, of those the
-    # `dark` ones in the shadow and the `lit` ones just past its edge (residual_gain measures the dark ones again)
+    # `dark` ones in the shadow and the `lit` ones past its edge (residual_gain measures the dark ones again)
     pick: np.ndarray | None = None
     dark: np.ndarray | None = None
     lit: np.ndarray | None = None
-    residual: np.ndarray | None = None  # (3,) the second relight's gain, once residual_gain has measured it
+    residual: np.ndarray | None = None  # (3,) the later relights' gains multiplied, once they ran
+    lacking: np.ndarray | None = None  # (3,) what the dark samples still lacked of the gain after them
     # (N,) bool over the remaining Gaussians: the support in another object's own cast shadow along this light, or
     # in darkness running on past the object's (passing_shadows), which the relights and the contact shade leave
     # dark (gt/ keeps those shadows)
@@ -88,6 +94,7 @@ class Shadow:
         return {"shadowed_gaussians": int(self.shadowed.sum()), "in_full_shadow": int((self.darkness > 0.5).sum()),
                 "gain": self.gain.round(3).tolist(),
                 "residual_gain": None if self.residual is None else self.residual.round(3).tolist(),
+                "lacking": None if self.lacking is None else self.lacking.round(3).tolist(),
                 "light_elevation_deg": round(self.elevation, 1), "light_azimuth_deg": round(self.azimuth, 1),
                 "contrast": round(self.contrast, 3)}
 
@@ -196,8 +203,7 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     theirs |= passes
     samples_theirs |= grid.cells(passing, frame.cast(points, light))
     shadowed &= ~theirs
-    lit_edge = ~inside & ~samples_theirs & grid.cells(cv2.dilate(cast.astype(np.uint8), np.ones((7, 7), np.uint8))
-                                                       > 0, frame.cast(points, light))
+    lit_edge = ~inside & ~samples_theirs & grid.cells(_ring(cast, LIT_GAP, LIT_RING), frame.cast(points, light))
     colors = srgb_to_linear(samples.colors[pick])  # a shadow scales light, and light adds up in linear values
     gain = np.clip((trimmed_mean(colors[lit_edge]) + LINEAR_EPS) / (trimmed_mean(colors[dark]) + LINEAR_EPS), 1.0,
                    MAX_GAIN) if lit_edge.sum() >= 20 and dark.sum() >= 20 else np.ones(3)
@@ -205,6 +211,14 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
                                elevation=float(best[0]), azimuth=float(best[1] % 360), contrast=score,
                                pick=pick, dark=dark & ~samples_theirs, lit=lit_edge, theirs=theirs),
                         "found", evidence)
+
+
+def _ring(cells: np.ndarray, gap: int, width: int) -> np.ndarray:
+    """The cells `gap` to `gap + width` cells past `cells` (a bool raster)."""
+    grown = cv2.dilate(cells.astype(np.uint8), np.ones((2 * (gap + width) + 1,) * 2, np.uint8)) > 0
+    if gap == 0:
+        return grown
+    return grown & ~(cv2.dilate(cells.astype(np.uint8), np.ones((2 * gap + 1,) * 2, np.uint8)) > 0)
 
 
 def _search_light(site: Site, obj_sample: np.ndarray, apart: float, points: np.ndarray, log_y: np.ndarray,

@@ -66,6 +66,9 @@ from engine.pictures.preview import label, overlay
 from engine.render.render_views import render_pictures
 from engine.train.trained_run import TrainedRun, load_run
 
+RESIDUAL_ROUNDS = 4  # relights of the cast shadow after the first, at most (_relit_to_gain)
+RESIDUAL_DONE = 1.02  # ... stopping once its dark samples lack less than this of the gain in every channel
+
 
 @dataclass
 class RemovalConfig:
@@ -236,15 +239,30 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
     before = _train_samples(scene, after, regions)
     search = find_shadow(remaining, core, plane, before, config, others)
     if search.shadow is not None:
-        remaining = relight(remaining, search.shadow)
-        relit = _rerendered(run, remaining, after, device, scene.train)  # the residual reads training views only
-        search.shadow.residual = residual_gain(search.shadow, before, _train_samples(scene, relit, regions))
-        remaining = relight(remaining, dataclasses.replace(search.shadow, gain=search.shadow.residual))
+        remaining = _relit_to_gain(run, remaining, search.shadow, before, after, regions, device)
         after = _rerendered(run, remaining, after, device)
     spared = others if search.shadow is None else others | search.shadow.theirs  # the contact shade leaves them
     remaining, after, contact, underside = undo_darkening(run, remaining, core, plane, regions, after, device,
                                                           others, config, spared)
     return remaining, after, _Effects(search, contact, underside)
+
+
+def _relit_to_gain(run: TrainedRun, remaining, shadow, before, after: list, regions: list[np.ndarray], device):
+    """`remaining` with the shadow relit until its dark samples brightened by its gain: each round relights by what
+    they still lack (residual_gain, read on the training views' renders), up to RESIDUAL_ROUNDS rounds or until
+    they lack under RESIDUAL_DONE. Why more than one: a pixel blends relit Gaussians with ones left alone, so each
+    round gets part of the way (tiny CPU wallmount: 1.39, 1.13, 1.05, 1.02 asked for; its shadow 11% darker than
+    gt/ after one round, 6% after four). `shadow.residual` holds the rounds' gains multiplied, `shadow.lacking`
+    what the dark samples still lacked at the end."""
+    remaining, total = relight(remaining, shadow), np.ones(3)
+    for done in range(RESIDUAL_ROUNDS + 1):
+        relit = _rerendered(run, remaining, after, device, run.scene.train)  # the residual reads training views only
+        residual = residual_gain(shadow, before, _train_samples(run.scene, relit, regions))
+        if np.all(residual < RESIDUAL_DONE) or done == RESIDUAL_ROUNDS:
+            break
+        remaining, total = relight(remaining, dataclasses.replace(shadow, gain=residual)), total * residual
+    shadow.residual, shadow.lacking = total, residual
+    return remaining
 
 
 def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions: list[np.ndarray], after: list,
