@@ -377,3 +377,28 @@ def test_residual_gain_is_what_the_relit_shadow_still_lacks():
     assert np.allclose(residual_gain(shadow, before, after(1.2, 3.0)), 1.25, atol=0.01)  # the lit ones: no say
     assert np.allclose(residual_gain(shadow, before, after(1.5, 1.0)), 1.0, atol=0.01)
     assert np.allclose(residual_gain(shadow, before, after(1.8, 1.0)), 1.0)  # over-bright: left, not darkened
+
+
+def test_the_relight_rounds_stop_at_the_gain_where_relighting_does_not_reach_the_dark_samples(tiny_run):
+    """A shadow whose Gaussians hold none of its dark samples (a wrong light's cast): every round finds them as
+    dark as before and asks for the whole gain again; in all the rounds relight by at most the gain once more,
+    not by the gain to the power of the rounds."""
+    from engine.edit.effects import Shadow
+    from engine.edit.removal import RESIDUAL_ROUNDS, _relit_to_gain, _train_samples
+    from engine.render.render_views import render_pictures
+    from engine.train.trained_run import load_run
+
+    run = load_run(tiny_run)
+    after = list(render_pictures(run.gaussians, run.scene.cameras, run.sh_degree, "cpu"))
+    regions = [np.zeros((c.height, c.width), bool) for c in run.scene.cameras]
+    before = _train_samples(run.scene, after, regions)
+    means = run.gaussians["means"].numpy()
+    shadowed = np.zeros(len(means), bool)
+    shadowed[np.argsort(means[:, 0])[:40]] = True  # at one end of the scene
+    far = np.linalg.norm(before.points[:, None] - means[shadowed][None], axis=-1).min(1)
+    pick = np.argsort(far)[-400:]  # the samples farthest from them are "dark"
+    shadow = Shadow(shadowed=shadowed, darkness=np.ones(40), gain=np.full(3, 2.0), elevation=45.0, azimuth=0.0,
+                    contrast=0.4, pick=pick, dark=np.ones(400, bool), lit=np.zeros(400, bool))
+    _relit_to_gain(run, run.gaussians, shadow, before, after, regions, "cpu")
+    assert RESIDUAL_ROUNDS > 1 and np.all(shadow.residual <= 2.0 + 1e-6), shadow.residual
+    assert np.all(shadow.lacking > 1.9)  # they lack it still: no relight reaches them
