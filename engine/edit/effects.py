@@ -52,7 +52,7 @@ MAX_GAIN = 8.0 ** 2.4  # the cast shadow's gain, at most, in linear values (8 in
 MAX_RESIDUAL = 4.0 ** 2.4  # each later relight's, at most (4 in sRGB values)
 # the lit samples the gain is measured on: LIT_GAP cells (a twelfth of the object's radius each) past its cast, in a
 # ring LIT_RING wide. Why a gap: a shadow's edge fades (a sun's penumbra, a render's blur), and lit samples next to
-# it made the gain 0.66-0.92 of the truth's on tiny CPU runs (0.93-0.97 with the gap)
+# it made the gain 0.66-0.93 of the truth's on tiny CPU runs (0.92-1.03 with the gap)
 LIT_GAP, LIT_RING = 2, 3
 BAND_CONTRAST = 1.5  # a line past the object's sunlit side this dark (x min_contrast, mean) is a band: a checker
 # of two tones averages ~0.6 x min_contrast there, a shadow 1.7-3 x

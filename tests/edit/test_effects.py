@@ -98,7 +98,7 @@ def test_the_shadows_gain_is_the_lights_in_every_channel_whatever_share_of_the_t
 def test_the_gain_is_measured_past_the_shadows_soft_edge(azimuth):
     """A shadow whose edge fades over two Gaussians (a sun's penumbra, and the blur of a render trained from few
     views): the lit samples the gain is measured on lie past the fade, so the gain is the light's (measured next to
-    the edge it was 4.1-4.4 for the true 5; on tiny CPU runs the found gain was 0.66-0.92 of the truth's)."""
+    the edge it was 4.1-4.4 for the true 5; on tiny CPU runs the found gain was 0.66-0.93 of the truth's)."""
     floor, lit, seen, truth, box = shadow_scene(sun(azimuth))
     apart = np.sqrt(((floor[~truth, None, :2] - floor[None, truth, :2]) ** 2).sum(-1)).min(1)
     light = np.full(len(floor), 0.2)
