@@ -244,15 +244,16 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
     before = _train_samples(scene, after, regions)
     search = find_shadow(remaining, core, plane, before, config, others)
     if search.shadow is not None:
-        remaining = _relit_to_gain(run, remaining, search.shadow, before, after, regions, device)
-        after = _rerendered(run, remaining, after, device)
+        remaining, after = _relit_to_gain(run, remaining, search.shadow, before, after, regions, device)
+        after = _rerendered(run, remaining, after, device, _untrained(scene))  # the rounds rendered the rest
     spared = others if search.shadow is None else others | search.shadow.theirs  # the contact shade leaves them
     remaining, after, contact, underside = undo_darkening(run, remaining, core, plane, regions, after, device,
                                                           others, config, spared)
     return remaining, after, _Effects(search, contact, underside)
 
 
-def _relit_to_gain(run: TrainedRun, remaining, shadow, before, after: list, regions: list[np.ndarray], device):
+def _relit_to_gain(run: TrainedRun, remaining, shadow, before, after: list, regions: list[np.ndarray], device
+                   ) -> tuple[Gaussians, list]:
     """`remaining` with the shadow relit until its dark samples brightened by its gain: each round relights by what
     they still lack (residual_gain, read on the training views' renders), up to RESIDUAL_ROUNDS rounds or until
     they lack under RESIDUAL_DONE. Why more than one: a pixel blends relit Gaussians with ones left alone, so each
@@ -260,7 +261,7 @@ def _relit_to_gain(run: TrainedRun, remaining, shadow, before, after: list, regi
     gt/ after one round, 6% after four). In all they relight by at most the gain again: where relighting does not
     reach the dark samples (a wrong light's cast, whose Gaussians hold none of them) each round asks for all of it.
     `shadow.residual` holds the rounds' gains multiplied, `shadow.lacking` what the dark samples still lacked at
-    the end."""
+    the end. Also `after` with the training views rendered as relit (the last round read them)."""
     remaining, total = relight(remaining, shadow), np.ones(3)
     for done in range(RESIDUAL_ROUNDS + 1):
         relit = _rerendered(run, remaining, after, device, run.scene.train)  # the residual reads training views only
@@ -270,7 +271,7 @@ def _relit_to_gain(run: TrainedRun, remaining, shadow, before, after: list, regi
             break
         remaining, total = relight(remaining, dataclasses.replace(shadow, gain=residual)), total * residual
     shadow.residual, shadow.lacking = total, lacking
-    return remaining
+    return remaining, relit
 
 
 def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions: list[np.ndarray], after: list,
@@ -294,8 +295,10 @@ def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions:
     underside = find_underside(remaining, core, plane, config, others)  # reads the Gaussians, not the renders
     if underside is not None:
         remaining = paint(remaining, underside)
-    if contact is not None or underside is not None:
+    if underside is not None:
         after = _rerendered(run, remaining, after, device)  # every view, once both are done
+    elif contact is not None:  # its last round rendered the training views
+        after = _rerendered(run, remaining, after, device, _untrained(run.scene))
     return remaining, after, contact, underside
 
 
@@ -305,6 +308,12 @@ def _train_samples(scene, after: list, masks: list[np.ndarray]) -> Samples:
     train = scene.train
     return Samples.from_views([scene.cameras[i] for i in train], [after[i].rgb for i in train],
                               [after[i].depth for i in train], [masks[i] for i in train])
+
+
+def _untrained(scene) -> list[int]:
+    """The views that are not training views (the test views, which the relights' rounds do not read)."""
+    train = set(scene.train)
+    return [i for i in range(len(scene.cameras)) if i not in train]
 
 
 def _rerendered(run: TrainedRun, gaussians, after: list, device, views: list[int] | None = None) -> list:
