@@ -32,13 +32,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import cv2
 import numpy as np
 import torch
 
 from engine.base.knn import knn
 from engine.edit.passing_shadows import band_lines, passing_shadows
-from engine.edit.plane_grid import PlaneFrame, PlaneGrid, Site, surface_spacing
+from engine.edit.plane_grid import PlaneFrame, PlaneGrid, Site, grown, surface_spacing
 from engine.formats.cameras import Camera, backproject
 from engine.formats.splat_ply import SH_C0
 from engine.io.gaussians import Gaussians
@@ -189,7 +188,7 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     if not score - chance >= config.min_contrast:
         return ShadowSearch(None, "no candidate darker than chance by min_contrast", evidence)
     cast = grid.raster(frame.cast(obj, light), site.spacing)
-    cast = cv2.dilate(cast.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
+    cast = grown(cast, 1)
     shadowed = around(means, config.band_below, site.reach_up(remaining))
     shadowed[shadowed] = grid.cells(cast, frame.cast(means[shadowed], light))
     dark = inside & (np.median(log_y[~inside]) - log_y > config.min_contrast)
@@ -215,10 +214,8 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
 
 def _ring(cells: np.ndarray, gap: int, width: int) -> np.ndarray:
     """The cells `gap` to `gap + width` cells past `cells` (a bool raster)."""
-    grown = cv2.dilate(cells.astype(np.uint8), np.ones((2 * (gap + width) + 1,) * 2, np.uint8)) > 0
-    if gap == 0:
-        return grown
-    return grown & ~(cv2.dilate(cells.astype(np.uint8), np.ones((2 * gap + 1,) * 2, np.uint8)) > 0)
+    outer = grown(cells, gap + width)
+    return outer if gap == 0 else outer & ~grown(cells, gap)
 
 
 def _search_light(site: Site, obj_sample: np.ndarray, apart: float, points: np.ndarray, log_y: np.ndarray,

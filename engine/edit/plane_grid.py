@@ -86,6 +86,11 @@ class PlaneGrid:
         return self.cells(self.raster(frame.cast(obj, light), spacing), frame.cast(points, light))
 
 
+def grown(cells: np.ndarray, n: int) -> np.ndarray:
+    """(size, size) bool: the grid's `cells` grown by `n` cells each way, a square (the grid's own neighbourhood)."""
+    return cv2.dilate(cells.astype(np.uint8), np.ones((2 * n + 1, 2 * n + 1), np.uint8)) > 0
+
+
 def pooled_sums(size: int, ij: np.ndarray, values: np.ndarray, use: np.ndarray, width: int
                 ) -> tuple[np.ndarray, np.ndarray]:
     """(size, size, C) sums of the `values` (M, C) of the samples in cells `ij` that `use`, over a window `width`
