@@ -15,10 +15,9 @@ cast, so a low sun won), `passing_shadows` keeps them dark once the light is fou
 
 from __future__ import annotations
 
-import cv2
 import numpy as np
 
-from engine.edit.plane_grid import PlaneFrame, PlaneGrid, pooled_sums
+from engine.edit.plane_grid import PlaneFrame, PlaneGrid, grown, pooled_sums
 
 WINDOW = 8  # cells past the object's cast (and the plane under it) whose samples say whether the darkness runs on
 POOL = 3  # each cell speaks for the samples of the POOL x POOL cells around it outside the cast (a cell holds ~1)
@@ -42,14 +41,12 @@ def passing_shadows(grid: PlaneGrid, frame: PlaneFrame, light: np.ndarray, cast:
     dark as the object's, a texture's dark patches average out with its light ones. Limit: a band as wide as two
     thirds of the shadow pulls the light's search (effects.find_shadow) to a low sun whose cast runs off the
     support, and then nothing past its tip says the darkness runs on."""
+    u = _across(frame, light)
+    if u is None or not cast.any():
+        return np.zeros_like(cast)
     blocked = cast | under
     count, total = _per_cell(grid, flat, contrast, blocked)
-    u = np.array([light @ frame.a, light @ frame.b])
-    if np.linalg.norm(u) < 1e-6 or not cast.any():
-        return np.zeros_like(cast)
-    u /= np.linalg.norm(u)
-    candidates = cv2.dilate(cast.astype(np.uint8), np.ones((2 * ring + 1, 2 * ring + 1), np.uint8)) > 0
-    cells = np.argwhere(candidates & ~under)
+    cells = np.argwhere(grown(cast, ring) & ~under)
     sides = [_side(cells, sign * u, blocked, count, total, grid.size, shadow_contrast) for sign in (1.0, -1.0)]
     runs_on = sides[0] & sides[1]
     out = np.zeros_like(cast)
@@ -64,10 +61,9 @@ def band_lines(frame: PlaneFrame, light: np.ndarray, obj_flat: np.ndarray, flat:
     never falls. Such a line is a band from something farther towards the light (a tree out of view); for the
     light's search its samples say nothing, as they are dark whatever the elevation. Lines are LINE_DEPTH cells deep
     past the object and pooled LINE_POOL cells across."""
-    u = np.array([light @ frame.a, light @ frame.b])
-    if np.linalg.norm(u) < 1e-6:
+    u = _across(frame, light)
+    if u is None:
         return np.zeros(len(flat), bool)
-    u /= np.linalg.norm(u)
     v = np.array([-u[1], u[0]])
     edge = float((obj_flat @ u).max())
     along, across = flat @ u - edge, flat @ v
@@ -81,6 +77,14 @@ def band_lines(frame: PlaneFrame, light: np.ndarray, obj_flat: np.ndarray, flat:
     count, total = np.convolve(count, kernel, "same"), np.convolve(total, kernel, "same")
     dark = (count >= MIN_SAMPLES) & (total >= threshold * np.maximum(count, 1.0))
     return dark[line]
+
+
+def _across(frame: PlaneFrame, light: np.ndarray) -> np.ndarray | None:
+    """The light's direction across the plane, a unit vector in its own coordinates; None for a light straight
+    above it, which casts no direction."""
+    u = frame.flat(light[None])[0]
+    norm = float(np.linalg.norm(u))
+    return None if norm < 1e-6 else u / norm
 
 
 def _per_cell(grid: PlaneGrid, flat: np.ndarray, contrast: np.ndarray, blocked: np.ndarray
