@@ -177,6 +177,23 @@ def test_a_shadow_band_from_out_of_view_that_crosses_the_objects_is_left_dark(of
     np.testing.assert_allclose(shadow.gain, 1 / 0.2, rtol=0.15)
 
 
+def test_no_shadow_is_claimed_where_a_band_from_out_of_view_runs_through_the_object():
+    """The box stands inside a tree's band, twice as wide as its shadow, running along the sun's direction on
+    both sides of it: its own shadow falls where the tree's already does, so without the box the floor looks the
+    same (held-out statue_s100: a trunk's band through the statue, and a low sun's cast along it was relit as
+    the statue's shadow, the fill then painting lit slab into the band). A light from the other side finds the
+    band as dark, so there is nothing to relight."""
+    light = sun(30)
+    floor, lit, _, truth, box = shadow_scene(light)
+    u = light[:2] / np.linalg.norm(light[:2])
+    band = np.abs(floor[:, :2] @ np.array([-u[1], u[0]])) < 0.3  # the box's shadow is 0.3 wide
+    assert truth[band].mean() > 0 and not truth[~band].any()
+    seen = np.where(band[:, None], linear_to_srgb(srgb_to_linear(lit) * 0.2), lit)
+    search = search_of(gaussians(floor, seen), gaussians(box, np.full((len(box), 3), 0.9)), view_samples(floor, seen))
+    assert search.shadow is None, search.report()
+    assert search.verdict == "a light 90+ degrees away about as dark: the darkness surrounds the object"
+
+
 def test_no_shadow_is_claimed_where_the_surface_around_the_object_is_evenly_lit():
     floor, lit, _, _, box = shadow_scene(np.array([0.0, 0.6, 0.8]))
     rng = np.random.default_rng(1)
