@@ -242,6 +242,35 @@ def test_the_darkening_under_an_overhang_is_relit_to_the_floor_around_it_texture
     assert found.weight[inner[found.shaded]].mean() > 0.9  # the effect masks take it
 
 
+def test_a_band_running_on_past_the_darkening_is_left_dark_the_darkening_beside_it_relit():
+    """A tree's band (|y| < 0.2) crosses the floor through the ball: dark on past the darkening's reach on both
+    sides, so the ball did not cast it and gt/ keeps it (held-out statue_s100: the band beside the statue was
+    relit as its contact shade). The band's cells by the ball stay as seen; the darkening elsewhere is relit.
+    Unless the darkness is the ball's own cast shadow (`cast`), which the contact shade finishes relighting."""
+    from engine.edit.contact_shade import find_contact_shade
+    from engine.edit.effects import brighten
+
+    floor, lit, seen, ball = overhang_scene(darken=0.2)
+    band = np.abs(floor[:, 1]) < 0.2
+    seen = np.where(band[:, None], linear_to_srgb(srgb_to_linear(seen) * 0.2), seen)
+    up = np.array([0.0, 0.0, 1.0])
+    core = object_core(gaussians(ball, np.full((len(ball), 3), 0.9)), up)
+    remaining = gaussians(floor, seen)
+    found = find_contact_shade(remaining, core, object_support(floor, core, up), Samples(floor, seen),
+                               EffectsConfig())
+    assert found is not None
+    after = colors_of(brighten(remaining, found.shaded, found.gains))
+    x, y, r = floor[:, 0], floor[:, 1], np.linalg.norm(floor[:, :2], axis=1)
+    by_ball = (np.abs(y) < 0.1) & (np.abs(x) > 0.45) & (np.abs(x) < 0.65)
+    assert by_ball.sum() > 100 and np.abs(after[by_ball] - seen[by_ball]).max() < 1e-5
+    beside = (r < 0.35) & (np.abs(y) > 0.3)
+    assert np.abs(after[beside] - lit[beside]).mean() < 0.25 * np.abs(seen[beside] - lit[beside]).mean()
+    # the same darkness as the object's own cast shadow (relit before, its rim left): relit as its contact shade
+    own = find_contact_shade(remaining, core, object_support(floor, core, up), Samples(floor, seen), EffectsConfig(),
+                             cast=floor[band])
+    assert own.shaded[by_ball].all() and (own.gains[by_ball[own.shaded]] > 1.5).all()
+
+
 def test_no_darkening_is_claimed_under_an_object_that_cast_none():
     from engine.edit.contact_shade import find_contact_shade
 
