@@ -104,11 +104,9 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     local, reference = shading(np.log(shown_colors + 1e-3))  # found in sRGB values, as min_contrast is
     darker = (reference - local) @ LUMA / LUMA.sum()
     means = remaining["means"].numpy()
-    explained = means[others] if others is not None else np.zeros((0, 3))
-    if cast is not None:
-        explained = np.concatenate([explained, cast])
-    known = dilate(grid.raster(frame.flat(explained), site.spacing), window) if len(explained) else np.zeros_like(zone)
-    runs_on = _running_on(darker, zone, beyond & ~known, np.argwhere(above).mean(0), min_contrast)
+    explained = _explained(site, np.concatenate([means[others] if others is not None else np.zeros((0, 3)),
+                                                 cast if cast is not None else np.zeros((0, 3))]), window)
+    runs_on = _running_on(darker, zone, beyond & ~explained, np.argwhere(above).mean(0), min_contrast)
     weight = np.where(zone & ~runs_on & np.isfinite(darker), darker_share(darker, min_contrast), 0.0)
     if not (weight > 0.5).any():
         return None
@@ -121,6 +119,14 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     flat = frame.flat(means[shaded])
     return ContactShade(shaded=shaded, gains=grid.cells(gain, flat), weight=grid.cells(weight, flat),
                         contrast=float(np.nanmax(np.where(zone, darker, np.nan))))
+
+
+def _explained(site: Site, points: np.ndarray, window: int) -> np.ndarray:
+    """(size, size) bool: the cells under `points` (other objects, the object's own relit cast shadow), grown by
+    the shading `window`, whose darkness is theirs."""
+    if not len(points):
+        return np.zeros((site.grid.size, site.grid.size), bool)
+    return dilate(site.grid.raster(site.frame.flat(points), site.spacing), window)
 
 
 def _running_on(darker: np.ndarray, zone: np.ndarray, beyond: np.ndarray, centre: np.ndarray, min_contrast: float

@@ -291,7 +291,7 @@ def _chance_contrast(grid: PlaneGrid, frame: PlaneFrame, light: tuple[float, flo
     stands out (0.36-0.46 on the generated scenes). Also the largest of those contrasts: an object's own
     shadow lies one way, and where a footprint 90+ degrees away is as dark, the darkness is around the object,
     not cast by it (held-out statue_s100: a tree's band through the statue and the darker grass off its slab;
-    tiny CPU run 0.59 there against 0.51 for the found light, a 16-degree sun cast along the band; on the six
+    on a tiny CPU training of it, 0.59 against 0.51 for the found light, a 16-degree sun along the band; on the six
     tuning runs whose shadow is found, 0.21 against the found 0.27 at the closest, statue s15)."""
     values = []
     for az in np.arange(light[1] + 90.0, light[1] + 271.0, 6.0):
