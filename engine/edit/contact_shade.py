@@ -79,9 +79,9 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     `shown` of the support (the removed scene's renders, its object regions included, since what the views
     saw under an overhang shows there); None where nothing is darker than around it. A cell's gain is of light
     (linear values, as `brighten` applies it), at most `most` ** 2.4: `most` in sRGB values. Other objects'
-    Gaussians (`others`) are never brightened. `cast`: (K, 3) the centres of the Gaussians in the object's own
-    cast shadow, already relit. Darkness past the zone where those lie, or the `others` (their own shadows
-    included), is theirs: it says nothing of a band through the object (`_running_on`)."""
+    Gaussians (`others`) are never brightened. `cast` (bool over `remaining`, as `others`): the object's own cast
+    shadow, already relit. Darkness past the zone where those lie, or the `others` (their own shadows included),
+    is theirs: it says nothing of a band through the object (`_running_on`)."""
     if plane is None or len(obj) < 20:
         return None
     site = Site.of(obj, plane)
@@ -104,8 +104,11 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     local, reference = shading(np.log(shown_colors + 1e-3))  # found in sRGB values, as min_contrast is
     darker = (reference - local) @ LUMA / LUMA.sum()
     means = remaining["means"].numpy()
-    explained = _explained(site, np.concatenate([means[others] if others is not None else np.zeros((0, 3)),
-                                                 cast if cast is not None else np.zeros((0, 3))]), window)
+    theirs = np.zeros(len(means), bool)
+    for part in (others, cast):
+        if part is not None:
+            theirs |= part
+    explained = _explained(site, means[theirs], window)
     runs_on = _running_on(darker, zone, beyond & ~explained, np.argwhere(above).mean(0), min_contrast)
     weight = np.where(zone & ~runs_on & np.isfinite(darker), darker_share(darker, min_contrast), 0.0)
     if not (weight > 0.5).any():

@@ -289,7 +289,7 @@ def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions:
         # the regions too: what the views saw under an overhang shows inside them in the removed renders
         shown = _train_samples(run.scene, after, [np.zeros_like(region) for region in regions])
         found = find_contact_shade(remaining, core, plane, shown, config, others=others if spared is None else spared,
-                                   cast=None if cast is None else remaining["means"].numpy()[cast])
+                                   cast=cast)
         if found is None:
             break
         contact, step = (found, found.gains) if contact is None else contact.joined(found)

@@ -267,7 +267,7 @@ def test_a_band_running_on_past_the_darkening_is_left_dark_the_darkening_beside_
     assert np.abs(after[beside] - lit[beside]).mean() < 0.25 * np.abs(seen[beside] - lit[beside]).mean()
     # the same darkness as the object's own cast shadow (relit before, its rim left): relit as its contact shade
     own = find_contact_shade(remaining, core, object_support(floor, core, up), Samples(floor, seen), EffectsConfig(),
-                             cast=floor[band])
+                             cast=band)
     assert own.shaded[by_ball].all() and (own.gains[by_ball[own.shaded]] > 1.5).all()
 
 
