@@ -17,7 +17,7 @@ from engine.geometry.scene_geometry import components, voxel_components
 from engine.io.image_io import read_png, write_png
 from engine.metrics.segment_scores import association_accuracy, iou, perturb_masks, proposal_scores
 from engine.segment.proposals import split_pieces
-from engine.segment.run import SegmentConfig, lift_masks, run_segment
+from engine.segment.run import SegmentConfig, lift_masks, pieces_under, run_segment
 from engine.segment.saliency_votes import weak_evidence
 from engine.train.trained_run import load_run, load_run_scene
 from tests.conftest import setup_weight
@@ -145,6 +145,18 @@ def test_a_click_in_one_view_gives_the_object_under_it(run_copy: Path):
     with pytest.raises(InputError, match="lies outside"):
         run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), point=[1e4, 1.0], name="far",
                                                       view=scene.cameras[i].name, device="cpu"))
+
+
+def test_a_click_takes_every_piece_that_meets_where_it_landed():
+    """One object split into three touching pieces (a sliver nearest the click) and a second object a little
+    away: the click takes the three, not the sliver alone nor the neighbour; with none in reach, the nearest."""
+    rng = np.random.default_rng(0)
+    body = rng.uniform([-0.1, 0.0, 0.0], [0.1, 0.2, 0.2], (2000, 3))
+    means = np.concatenate([body, [[0.0, -0.01, 0.1]], [[0.3, 0.1, 0.1]]])
+    ids = np.concatenate([np.where(body[:, 0] < 0, 1, 2), [3], [4]])  # 1, 2: halves; 3: the sliver; 4: another
+    click = np.array([0.0, -0.015, 0.1])
+    assert sorted(pieces_under(means, ids, click, reach=0.04)) == [1, 2, 3]
+    assert list(pieces_under(means, ids, np.array([0.5, 0.1, 0.1]), reach=0.04)) == [4]
 
 
 def test_lifting_joins_segments_that_share_gaussians_whatever_their_ids():
