@@ -127,6 +127,9 @@ class Samples:
         return cls(np.concatenate(points), np.concatenate(colors))
 
 
+SURROUNDED = "a light 90+ degrees away about as dark: the darkness surrounds the object"
+
+
 @dataclass
 class ShadowSearch:
     """What the search found (`shadow`, None where nothing stood out) and what it weighed: a user whose capture
@@ -135,6 +138,12 @@ class ShadowSearch:
     shadow: Shadow | None
     verdict: str
     evidence: dict
+
+    @property
+    def surrounded(self) -> bool:
+        """The object stands in darkness that is not its own (a tree's band across it): the ground around it has no
+        lit reference that would tell its contact shade apart (engine.edit.contact_shade)."""
+        return self.verdict == SURROUNDED
 
     def report(self) -> dict:
         return {"verdict": self.verdict, **{k: round(v, 3) if isinstance(v, float) else v
@@ -188,7 +197,7 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     if not score - chance >= config.min_contrast:
         return ShadowSearch(None, "no candidate darker than chance by min_contrast", evidence)
     if not score - elsewhere >= config.min_contrast:
-        return ShadowSearch(None, "a light 90+ degrees away about as dark: the darkness surrounds the object", evidence)
+        return ShadowSearch(None, SURROUNDED, evidence)
     cast = grid.raster(frame.cast(obj, light), site.spacing)
     cast = grown(cast, 1)
     shadowed = around(means, config.band_below, site.reach_up(remaining))

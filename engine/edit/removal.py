@@ -249,7 +249,7 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
     spared = others if search.shadow is None else others | search.shadow.theirs  # the contact shade leaves them
     cast = None if search.shadow is None else search.shadow.shadowed
     remaining, after, contact, underside = undo_darkening(run, remaining, core, plane, regions, after, device,
-                                                          others, config, spared, cast)
+                                                          others, config, spared, cast, not search.surrounded)
     return remaining, after, _Effects(search, contact, underside)
 
 
@@ -277,15 +277,18 @@ def _relit_to_gain(run: TrainedRun, remaining, shadow, before, after: list, regi
 
 def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions: list[np.ndarray], after: list,
                    device, others: np.ndarray, config: EffectsConfig, spared: np.ndarray | None = None,
-                   cast: np.ndarray | None = None) -> tuple[dict, list, ContactShade | None, Underside | None]:
+                   cast: np.ndarray | None = None, shade: bool = True
+                   ) -> tuple[dict, list, ContactShade | None, Underside | None]:
     """What follows the cast shadow: the darkening under and beside the object relit, judged by `after` (the
     renders of `remaining` as it stands), then the crater under it repainted; the changed Gaussians, their
     renders, and what was found. `spared` (default `others`): what the contact shade leaves as it is, the other
     objects and the support in their own cast shadows (Shadow.theirs); `cast` (bool over `remaining`): the
-    object's own cast shadow, relit (find_contact_shade's `cast`). Apart so that a study of the
+    object's own cast shadow, relit (find_contact_shade's `cast`). `shade` False: no contact shade, where the
+    object stands in darkness not its own (ShadowSearch.surrounded: held-out statue_s100 on one H200, a tree's
+    band relit around the pedestal as its contact shade, effect precision 0.21). Apart so that a study of the
     shadow's relight can finish its variants exactly as removal does."""
     contact = None
-    for _ in range(CONTACT_ROUNDS):  # what one relight leaves of it is looked for again, as the shadow's is
+    for _ in range(CONTACT_ROUNDS if shade else 0):  # what one relight leaves of it is looked for again, as the shadow's is
         # the regions too: what the views saw under an overhang shows inside them in the removed renders
         shown = _train_samples(run.scene, after, [np.zeros_like(region) for region in regions])
         found = find_contact_shade(remaining, core, plane, shown, config, others=others if spared is None else spared,
