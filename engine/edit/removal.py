@@ -288,7 +288,8 @@ def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions:
     band relit around the pedestal as its contact shade, effect precision 0.21). Apart so that a study of the
     shadow's relight can finish its variants exactly as removal does."""
     contact = None
-    for _ in range(CONTACT_ROUNDS if shade else 0):  # what one relight leaves of it is looked for again, as the shadow's is
+    # what one relight leaves of it is looked for again, as the shadow's is
+    for _ in range(CONTACT_ROUNDS if shade else 0):
         # the regions too: what the views saw under an overhang shows inside them in the removed renders
         shown = _train_samples(run.scene, after, [np.zeros_like(region) for region in regions])
         found = find_contact_shade(remaining, core, plane, shown, config, others=others if spared is None else spared,
