@@ -56,7 +56,7 @@ class TrainConfig:
     colour_correction: bool = False  # a colour matrix and offset per training view, learned (engine.train.view_colours)
     lr_colours: float = 1e-3  # learning rate of the per-view colour corrections
     identity_weight: float = 1.0  # weight of the identity cross-entropy (divided by log of the class count)
-    identity_every: int = 4  # render and train the identities on every Nth step only (1: every step, the paper's)
+    identity_every: int = 8  # render and train the identities on every Nth step only (1: every step, the paper's)
     reg3d_every: int = 5  # the 3D KNN regulariser runs on every Nth identity step
     reg3d_k: int = 5  # neighbours each sampled Gaussian's identity is pulled towards
     reg3d_samples: int = 1000  # Gaussians sampled for the regulariser each time
