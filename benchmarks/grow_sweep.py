@@ -29,12 +29,8 @@ from engine.formats.layout import RunLayout
 from engine.inpaint.registry import create
 from engine.io.image_io import exr_name, read_depth, read_png
 from engine.io.masks import dilate
-from engine.metrics.image_metrics import psnr_from_mse
+from engine.metrics.image_metrics import masked_psnr
 from engine.train.trained_run import load_run_scene
-
-
-def masked_psnr(image: np.ndarray, truth: np.ndarray, mask: np.ndarray) -> float:
-    return psnr_from_mse(float((((image[mask].astype(float) - truth[mask]) / 255.0) ** 2).mean()))
 
 
 def on_plane(camera: Camera, depth: np.ndarray, plane: tuple[np.ndarray, float] | None, tol: float) -> np.ndarray:
@@ -62,7 +58,7 @@ def like_ring(image: np.ndarray, grown: np.ndarray, z: float, ring_px: int = 6) 
 def sweep(run: Path, grows: list[int], inpainter: str, plane_tol: float = 0.02, keep_z: tuple = (0.5, 1.0)
           ) -> dict:
     """Per grow (and 'unfilled', and each grow keeping the on-plane render), the mean over test views with a true
-    hole of m-PSNR in it; the on-plane share and split scores (at the largest grow)."""
+    hole of m-PSNR in it; the on-plane share and split scores (at the last grow)."""
     scene, layout = load_run_scene(run), RunLayout(run)
     fill, plane = create(inpainter), removal_plane(layout.removed)
     scores: dict[str, list[float]] = {"unfilled": []}
@@ -77,15 +73,16 @@ def sweep(run: Path, grows: list[int], inpainter: str, plane_tol: float = 0.02, 
         scores["unfilled"].append(masked_psnr(removed, truth, truth_hole))
         scores.setdefault("on_plane", []).append(float((kept & truth_hole).sum() / truth_hole.sum()))
         for d in grows:
-            filled = fill.inpaint(removed, dilate(hole, d), "rgb")
+            grown = dilate(hole, d)
+            filled = fill.inpaint(removed, grown, "rgb")
             scores.setdefault(f"D={d}", []).append(masked_psnr(filled, truth, truth_hole))
             scores.setdefault(f"keep+D={d}", []).append(
                 masked_psnr(np.where(kept[..., None], removed, filled), truth, truth_hole))
             for z in keep_z:
-                alike = like_ring(removed, dilate(hole, d), z)
+                alike = like_ring(removed, grown, z)
                 scores.setdefault(f"colour<{z}+D={d}", []).append(
                     masked_psnr(np.where(alike[..., None], removed, filled), truth, truth_hole))
-        for part, mask in (("on", truth_hole & kept), ("off", truth_hole & ~kept)):
+        for part, mask in (("on", truth_hole & kept), ("off", truth_hole & ~kept)):  # `filled`: the last grow's
             if mask.sum() >= 20:
                 scores.setdefault(f"unfilled_{part}_plane", []).append(masked_psnr(removed, truth, mask))
                 scores.setdefault(f"D={grows[-1]}_{part}_plane", []).append(masked_psnr(filled, truth, mask))

@@ -61,7 +61,7 @@ from engine.io.image_io import exr_name, write_depth, write_png
 from engine.io.masks import dilate
 from engine.io.ply_io import save_ply
 from engine.io.visibility import inside_visual_hull
-from engine.metrics.image_metrics import mean_and_worst, psnr
+from engine.metrics.image_metrics import masked_psnr, mean_and_worst
 from engine.pictures.preview import label, overlay
 from engine.render.render_views import render_pictures
 from engine.train.trained_run import TrainedRun, load_run
@@ -186,12 +186,12 @@ def run_removal(config: RemovalConfig) -> dict:
             write_depth(tmp.depth / exr_name(camera.name), picture.depth)
             write_png(tmp.masks / camera.name, region.astype(np.uint8) * 255)
             if i in scene.gt_images and i in scene.holes:  # every view with a truth: training views too
-                outside = _psnr_where(picture.rgb, scene.gt_images[i], ~scene.holes[i])
+                outside = masked_psnr(picture.rgb, scene.gt_images[i], ~scene.holes[i])
                 everywhere.append(outside)
             if i in scene.gt_images and i in scene.holes and i in scene.test:
                 scores.append(outside)
                 if (region & ~scene.holes[i]).any():
-                    revealed.append(_psnr_where(picture.rgb, scene.gt_images[i], region & ~scene.holes[i]))
+                    revealed.append(masked_psnr(picture.rgb, scene.gt_images[i], region & ~scene.holes[i]))
             if len(sheet) < 6 and i in scene.test:
                 sheet.append(np.concatenate([label(scene.images[i], f"{camera.name} input"),
                                              label(overlay(scene.images[i], region), "object region"),
@@ -376,10 +376,6 @@ def _write_effects(out: EffectsLayout, scene, gaussians, effects: _Effects, regi
               "precision": float(np.mean(precision)) if precision else None, "views_scored": len(recall)}
     out.report.write_text(json.dumps(report, indent=1))
     return report
-
-
-def _psnr_where(image: np.ndarray, truth: np.ndarray, where: np.ndarray) -> float:
-    return psnr(torch.from_numpy(image[where]) / 255.0, torch.from_numpy(truth[where]) / 255.0)
 
 
 def _object_region(scene, i: int, obj, picture) -> np.ndarray:

@@ -10,6 +10,7 @@ import functools
 import math
 from dataclasses import dataclass
 
+import numpy as np
 import torch
 import torch.nn.functional as F
 
@@ -28,6 +29,11 @@ def psnr_from_mse(mse: float) -> float:
 
 def psnr(a: torch.Tensor, b: torch.Tensor) -> float:
     return psnr_from_mse(torch.mean((a.float() - b.float()) ** 2).item())
+
+
+def masked_psnr(image: np.ndarray, truth: np.ndarray, where: np.ndarray) -> float:
+    """PSNR of two 8-bit (H, W, 3) images over the pixels `where` (H, W) holds."""
+    return psnr(torch.from_numpy(image[where]) / 255.0, torch.from_numpy(truth[where]) / 255.0)
 
 
 @functools.cache
