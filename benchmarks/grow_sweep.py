@@ -26,6 +26,7 @@ import numpy as np
 from engine.edit.support_plane import plane_along_rays, removal_plane
 from engine.formats.cameras import Camera
 from engine.formats.layout import RunLayout
+from engine.inpaint.keep import like_ring
 from engine.inpaint.registry import create
 from engine.io.image_io import exr_name, read_depth, read_png
 from engine.io.masks import dilate
@@ -42,17 +43,6 @@ def on_plane(camera: Camera, depth: np.ndarray, plane: tuple[np.ndarray, float] 
     z = depth.reshape(-1)
     near = np.isfinite(z) & (z_plane > 0) & (np.abs(z - z_plane) <= tol * np.abs(z_plane))
     return near.reshape(depth.shape)
-
-
-def like_ring(image: np.ndarray, grown: np.ndarray, z: float, ring_px: int = 6) -> np.ndarray:
-    """(H, W) bool: pixels of `grown` whose colour lies within `z` standard deviations (per channel, 4 levels at
-    least) of the colours in the ring `ring_px` wide around it."""
-    ring = dilate(grown, ring_px) & ~grown
-    if ring.sum() < 20:
-        return np.zeros(grown.shape, bool)
-    colours = image[ring].astype(float)
-    score = np.abs((image.astype(float) - colours.mean(0)) / (colours.std(0) + 4.0)).max(-1)
-    return grown & (score < z)
 
 
 def sweep(run: Path, grows: list[int], inpainter: str, plane_tol: float = 0.02, keep_z: tuple = (0.5, 1.0)

@@ -35,6 +35,7 @@ from engine.edit.holes import iou
 from engine.edit.support_plane import removal_plane, stop_at_plane
 from engine.formats.cameras import Camera
 from engine.formats.layout import HolesLayout, InpaintedLayout, RemovedLayout, RunLayout
+from engine.inpaint.keep import like_ring
 from engine.inpaint.registry import Inpainter, create
 from engine.io.image_io import exr_name, read_depth, read_png, write_depth, write_png
 from engine.io.masks import dilate
@@ -89,6 +90,7 @@ class InpaintConfig:
     out: str = ""  # default RUN/inpainted/<inpainter>
     workers: int = 0  # views inpainted at once (0: the cores, up to 8, where the inpainter allows it; else 1)
     parallel: str = ""  # threads | processes: how views go at once ("": the inpainter's Inpainter.parallel_views)
+    keep: float = 0.0  # keep the removed render where its colour is within this many ring deviations (0: fill all)
 
 
 def inpainted_inpainter(inpainted: InpaintedLayout):
@@ -128,7 +130,7 @@ def run_inpaint(config: InpaintConfig) -> dict:
     grow = dilation_px(config.dilate, scene.cameras)
     with atomic_output_dir(out) as tmp_root:
         tmp = InpaintedLayout(tmp_root)
-        job = _ViewJob(inpainter, grow, prompt, direct, plane, removed, holes, tmp)
+        job = _ViewJob(inpainter, grow, prompt, direct, plane, removed, holes, tmp, config.keep)
         views = [(scene.images[i], scene.cameras[i]) for i in range(len(scene.cameras))]
         progress = Progress(f"inpaint {config.inpainter}", len(scene.cameras))
         for done, (i, row) in enumerate(_each_view(job, views, workers, parallel), start=1):
@@ -184,12 +186,13 @@ class _ViewJob:
     removed: RemovedLayout
     holes: HolesLayout
     out: InpaintedLayout
+    keep: float = 0.0
 
     def __call__(self, image: np.ndarray, camera: Camera) -> np.ndarray | None:
         """Fill one view and write it under `out`; its contact sheet row, or None if it has no hole."""
         if not self.direct:
             return _fill_hole(self.inpainter, self.dilate, self.prompt, image, camera, self.plane, self.removed,
-                              self.holes, self.out)
+                              self.holes, self.out, self.keep)
         # the direct baseline: the object painted out of the input image (its region), RGB only
         uses_mask = self.inpainter.uses_mask
         region = dilate(_direct_region(self.removed, camera.name), self.dilate) if uses_mask else None
@@ -273,8 +276,10 @@ def _direct_region(removed: RemovedLayout, name: str) -> np.ndarray:
 
 def _fill_hole(inpainter, dilation: int, prompt: str | None, image: np.ndarray, camera: Camera,
                plane: tuple[np.ndarray, float] | None, removed: RemovedLayout, holes: HolesLayout,
-               out: InpaintedLayout) -> np.ndarray | None:
+               out: InpaintedLayout, keep: float = 0.0) -> np.ndarray | None:
     """Inpaint one view's hole in the removed render, RGB and depth; its sheet row, or None if no hole.
+    With `keep` above 0 the render stays (colour and depth) where it already looks like the hole's surroundings
+    (engine.inpaint.keep); the sheet's hole shows what was filled.
 
     The depth fill stops at the support plane `remove` found: an inpainter fills depth from the hole's
     border, which takes in the floor or backdrop seen past the table's edge (statue: median 9% and up to
@@ -287,9 +292,11 @@ def _fill_hole(inpainter, dilation: int, prompt: str | None, image: np.ndarray, 
     filled_depth = inpainter.inpaint(depth, hole, "depth", prompt)
     if plane is not None and hole.any():
         filled_depth = stop_at_plane(camera, hole, filled_depth, plane, 0.0)
+    kept = like_ring(rgb, hole, keep) & np.isfinite(depth)
+    filled, filled_depth = np.where(kept[..., None], rgb, filled), np.where(kept, depth, filled_depth)
     write_png(out.images / name, filled)
     write_depth(out.depth / exr_name(name), filled_depth)
-    return _sheet_row(image, rgb, hole, filled, filled_depth, name) if hole.any() else None
+    return _sheet_row(image, rgb, hole & ~kept, filled, filled_depth, name) if hole.any() else None
 
 
 def _sheet_row(image, removed, hole, filled, filled_depth, name) -> np.ndarray:

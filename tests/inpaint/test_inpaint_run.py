@@ -149,3 +149,22 @@ def test_nanobanana_paints_the_input_images_with_the_paper_prompt_and_never_writ
     written = b"".join(p.read_bytes() for p in out.rglob("*") if p.is_file())
     captured = capfd.readouterr()
     assert key.encode() not in written and key not in captured.out + captured.err
+
+
+def test_keep_leaves_the_render_where_it_looks_like_the_surroundings(stages):
+    """--keep Z: in the grown hole, pixels like the ring around it keep the removed render's colour and depth;
+    the rest is filled as without it."""
+    outs = {}
+    for keep in (0.0, 1.0):
+        outs[keep] = stages["work"] / f"telea_keep{keep}"
+        run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="telea", removed=str(stages["removed"]),
+                                  holes=str(stages["holes"]), out=str(outs[keep]), keep=keep))
+    kept_any = filled_any = False
+    for camera in load_run_scene(stages["run"]).cameras:
+        removed = read_png(stages["removed"] / "images" / camera.name)
+        plain, kept = (read_png(outs[k] / "images" / camera.name) for k in (0.0, 1.0))
+        same_as_render = (kept == removed).all(-1) & (plain != removed).any(-1)
+        kept_any |= bool(same_as_render.any())
+        filled_any |= bool(((kept == plain).all(-1) & (plain != removed).any(-1)).any())
+        assert ((kept == removed).all(-1) | (kept == plain).all(-1)).all()
+    assert kept_any and filled_any
