@@ -8,7 +8,7 @@ defaults) into RUN/complete/Ref-telea-keepZ, several at once on every GPU. Z = 0
 cell. The Z with the best mean m-PSNR (true hole, test views) over the tuning runs is then run on the held-out
 runs; the JSON holds every cell beside each run's unfilled hole.
 
-    python benchmarks/keep_sweep.py --tuning RUN... --heldout RUN... [--z 0.5 1 2] [--per-gpu 4] --json OUT
+    PYTHONPATH=. python benchmarks/keep_sweep.py --tuning RUN... --heldout RUN... [--z 0.5 1 2] [--per-gpu 4] --json OUT
 """
 
 from __future__ import annotations
@@ -23,6 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
+from engine.formats.layout import CompleteLayout, RunLayout
+
 PLAIN = "Ref-telea[warm]"  # the matrix's cell: Z = 0
 
 
@@ -33,18 +35,18 @@ def _gpus() -> int:
         return 1
 
 
-def cell(run: Path, z: float) -> Path:
-    """The completion folder of `run` at keep `z` (0: the matrix's plain Ref-telea)."""
-    return run / "complete" / (PLAIN if z == 0 else f"Ref-telea-keep{z:g}")
+def cell(run: Path, z: float) -> CompleteLayout:
+    """The completion of `run` at keep `z` (0: the matrix's plain Ref-telea)."""
+    return RunLayout(run).complete(PLAIN if z == 0 else f"Ref-telea-keep{z:g}")
 
 
 def complete(run: Path, z: float, gpu: int, device: str) -> str:
     """Inpaint with --keep z and complete with Ref; '' or the failing stage's last lines."""
-    inpainted = run / "inpainted" / f"telea-keep{z:g}"
+    inpainted = RunLayout(run).inpainted(f"telea-keep{z:g}").root
     env = {**os.environ, "CUDA_VISIBLE_DEVICES": str(gpu)}
     steps = [["inpaint", "--run", str(run), "--inpainter", "telea", "--keep", f"{z:g}", "--out", str(inpainted)],
              ["complete", "--run", str(run), "--method", "reference", "--inpainter", "telea", "--inpainted",
-              str(inpainted), "--out", str(cell(run, z)), "--device", device, "--no-turntable"]]
+              str(inpainted), "--out", str(cell(run, z).root), "--device", device, "--no-turntable"]]
     for args in steps:
         if args[0] == "inpaint" and inpainted.is_dir():
             continue
@@ -56,14 +58,14 @@ def complete(run: Path, z: float, gpu: int, device: str) -> str:
 
 def scores(run: Path, z: float) -> dict:
     """m-PSNR of the cell and of the unfilled hole, from the cell's scores.json."""
-    report = json.loads((cell(run, z) / "scores.json").read_text())
+    report = json.loads(cell(run, z).scores_json.read_text())
     return {"m_psnr": report["scores"]["m_psnr"], "unfilled": report["removed_scores"]["m_psnr"],
             "psnr_kept": report["scores"].get("psnr_kept")}
 
 
 def batch(runs: list[Path], zs: list[float], per_gpu: int, device: str) -> dict:
     """Every (run, z) completed, per_gpu at once on each GPU; {run: {z: scores or error}}."""
-    jobs = [(run, z) for run in runs for z in zs if z != 0 and not (cell(run, z) / "scores.json").is_file()]
+    jobs = [(run, z) for run in runs for z in zs if z != 0 and not cell(run, z).scores_json.is_file()]
     gpus = _gpus()
     with ThreadPoolExecutor(gpus * per_gpu) as pool:
         done = pool.map(lambda job: complete(*job[1], job[0] % gpus, device), enumerate(jobs))

@@ -1,4 +1,5 @@
-"""benchmarks/grow_sweep.py's split of a hole into what the removed scene renders on the support plane and the rest."""
+"""benchmarks/grow_sweep.py's split of a hole into what the removed scene renders on the support plane and the rest
+(its colour keep is engine.inpaint.keep's, tested in tests/inpaint/test_keep.py)."""
 
 from __future__ import annotations
 
@@ -19,16 +20,3 @@ def test_on_plane_takes_the_rendered_surface_on_the_plane_not_in_front_of_it_nor
     assert kept[1:, :6].all() and not kept[:, 6:].any() and not kept[0, 0]
     assert not on_plane(camera, depth, None, tol=0.02).any()
 
-
-def test_like_ring_keeps_what_looks_like_the_surface_around_the_hole_not_a_dark_remnant():
-    """A grey surface (noise of 5 levels) with a hole whose left half renders the same grey and right half a dark
-    remnant: the grey half is kept, the remnant is not, nor anything outside the hole."""
-    from benchmarks.grow_sweep import like_ring
-
-    rng = np.random.default_rng(0)
-    image = np.clip(rng.normal(120, 5, (40, 40, 3)), 0, 255).astype(np.uint8)
-    hole = np.zeros((40, 40), bool)
-    hole[10:30, 10:30] = True
-    image[10:30, 20:30] = 20
-    alike = like_ring(image, hole, z=1.0)
-    assert alike[10:30, 10:20].mean() > 0.5 and not alike[10:30, 20:30].any() and not alike[~hole].any()
