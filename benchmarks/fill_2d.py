@@ -22,7 +22,7 @@ import numpy as np
 from engine.formats.layout import SceneLayout
 from engine.inpaint.registry import create
 from engine.io.image_io import read_png
-from engine.metrics.image_metrics import psnr_from_mse
+from engine.metrics.image_metrics import masked_psnr
 
 OURS = ("telea", "navier-stokes", "fsr", "exemplar")
 
@@ -69,8 +69,7 @@ def score(scene: Path, fills: dict[str, Callable], every: int) -> dict[str, list
             start = time.perf_counter()
             filled = fill(blank, hole)
             seconds = time.perf_counter() - start
-            mse = float((((filled[hole].astype(float) - truth[hole]) / 255.0) ** 2).mean())
-            out[name].append((psnr_from_mse(mse), seconds / (hole.size / 1e6)))
+            out[name].append((masked_psnr(filled, truth, hole), seconds / (hole.size / 1e6)))
     return out
 
 
