@@ -23,9 +23,11 @@ from pathlib import Path
 
 import numpy as np
 
+from engine.complete.registry import get, resolve_options
 from engine.formats.layout import CompleteLayout, RunLayout
 
-PLAIN = "Ref-telea[warm]"  # the matrix's cell: Z = 0
+REFERENCE = get("reference")
+PLAIN = REFERENCE.title("telea", resolve_options(REFERENCE, {}))  # the matrix's Ref-telea cell at its defaults: Z = 0
 
 
 def _gpus() -> int:

@@ -28,9 +28,10 @@ def like_ring(image: np.ndarray, hole: np.ndarray, z: float, ring: int | None = 
     """(H, W) bool: pixels of `hole` whose colour lies within `z` standard deviations (per channel, plus
     LEVEL_FLOOR) of the colours in the ring `ring` px wide around it (default ring_px). None of them where z <= 0
     or the ring has fewer than 20 pixels (a hole that fills the view)."""
-    width = ring_px(image.shape[1]) if ring is None else ring
-    around = dilate(hole, width) & ~hole
-    if z <= 0 or around.sum() < 20:
+    if z <= 0:
+        return np.zeros(hole.shape, bool)
+    around = dilate(hole, ring_px(image.shape[1]) if ring is None else ring) & ~hole
+    if around.sum() < 20:
         return np.zeros(hole.shape, bool)
     colours = image[around].astype(np.float64)
     score = np.abs((image.astype(np.float64) - colours.mean(0)) / (colours.std(0) + LEVEL_FLOOR)).max(-1)

@@ -293,7 +293,8 @@ def _fill_hole(inpainter, dilation: int, prompt: str | None, image: np.ndarray, 
     if plane is not None and hole.any():
         filled_depth = stop_at_plane(camera, hole, filled_depth, plane, 0.0)
     kept = like_ring(rgb, hole, keep) & np.isfinite(depth)
-    filled, filled_depth = np.where(kept[..., None], rgb, filled), np.where(kept, depth, filled_depth)
+    if kept.any():
+        filled, filled_depth = np.where(kept[..., None], rgb, filled), np.where(kept, depth, filled_depth)
     write_png(out.images / name, filled)
     write_depth(out.depth / exr_name(name), filled_depth)
     return _sheet_row(image, rgb, hole & ~kept, filled, filled_depth, name) if hole.any() else None
