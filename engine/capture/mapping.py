@@ -9,8 +9,12 @@ the incremental one places every photo. So `best` (the default) runs the increme
 leaves photos out, the incremental mapper with a relaxed first pair (RELAXED) and the global mapper, and keeps the
 model that places the most (the earlier one on a tie). On a generated livingroom's 40 photos: incremental 36,
 global 40. The global mapper samples: with more than one thread its result differs from run to run even with a
-fixed seed (on a 40-frame video of that orbit it placed 40 in five runs of six and 34 in one; 27 once on another
-machine), so where it too leaves photos out `best` runs it once more with the next seed (`global-reseeded`).
+fixed seed (on a 40-frame video of that orbit it placed 40 in five runs of six and 34 in one; 27 and 34 on another
+machine, with either seed), so where it too leaves photos out `best` runs it once more with the next seed
+(`global-reseeded`), and last (`extended`) the incremental mapper continues the model kept so far, registering
+the photos it left out against its points with COLMAP's registration thresholds relaxed (EXTEND): with six
+consecutive frames of that video taken out of the global model, COLMAP's thresholds placed two of them back, EXTEND
+all six, each within 2% of the scene's size of where the full model had it.
 
 A photo left out gets the first reason that holds: it went into a smaller model; it is blurred (the variance of
 its Laplacian under BLUR_SHARE of the set's median); it has too few verified matches with any other photo (under
@@ -30,6 +34,7 @@ from engine.capture.photos import sharpness
 
 MAPPERS = ("best", "incremental", "global")
 RELAXED = {"init_min_num_inliers": 50, "init_min_tri_angle": 8.0}  # COLMAP's: 100 inliers, 16 degrees
+EXTEND = {"abs_pose_min_num_inliers": 15, "abs_pose_min_inlier_ratio": 0.1}  # COLMAP's: 30 inliers, 0.25
 BLUR_SHARE = 0.35  # sharper than this share of the set's median sharpness is not blurred
 SHARPNESS_PX = 512  # longer side the sharpness is measured at (so photo size does not decide it)
 
@@ -51,11 +56,14 @@ def map_photos(database: Path, images: Path, work: Path, mapper: str, threads: i
     None when cancelled. `progress()` is called per image the incremental mapper registers. `seed` is the
     mappers' sampling seed (COLMAP's default, -1, draws a new one each run)."""
     total = _image_count(database)
-    attempts = {"best": ("incremental", "incremental-relaxed", "global", "global-reseeded"),
+    attempts = {"best": ("incremental", "incremental-relaxed", "global", "global-reseeded", "extended"),
                 "incremental": ("incremental",), "global": ("global",)}[mapper]
     kept: Mapped | None = None
     for attempt in attempts:
-        models = _run(attempt, database, images, work / attempt, threads, token, progress, seed)
+        start = kept.model if kept is not None else None
+        if attempt == "extended" and start is None:
+            break  # nothing placed to extend
+        models = _run(attempt, database, images, work / attempt, threads, token, progress, seed, start)
         if token.is_cancelled:
             return None
         placed = max((m.num_reg_images() for m in models.values()), default=0)
@@ -77,7 +85,9 @@ def placed_names(model) -> set[str]:
     return {model.images[i].name for i in model.reg_image_ids()}
 
 
-def _run(attempt: str, database: Path, images: Path, out: Path, threads: int, token, progress, seed: int) -> dict:
+def _run(attempt: str, database: Path, images: Path, out: Path, threads: int, token, progress, seed: int,
+         start=None) -> dict:
+    """The models one attempt makes (id -> reconstruction); `extended` continues `start`, the model kept so far."""
     import pycolmap
 
     shutil.rmtree(out, ignore_errors=True)
@@ -86,13 +96,34 @@ def _run(attempt: str, database: Path, images: Path, out: Path, threads: int, to
         options = pycolmap.GlobalPipelineOptions()
         options.num_threads, options.random_seed = threads, seed + (attempt == "global-reseeded")
         return pycolmap.global_mapping(database, images, out, options=options)
-    options = pycolmap.IncrementalPipelineOptions()
-    options.num_threads, options.random_seed = threads, seed
-    if attempt == "incremental-relaxed":
-        for name, value in RELAXED.items():
-            setattr(options.mapper, name, value)
+    if attempt == "extended":
+        return extend(start, database, images, out, threads, token, progress, seed)
+    options = _incremental(threads, seed, RELAXED if attempt == "incremental-relaxed" else {})
     return pycolmap.incremental_mapping(database, images, out, options=options, next_image_callback=progress,
                                         cancellation_token=token)
+
+
+def extend(model, database: Path, images: Path, out: Path, threads: int, token, progress, seed: int = 0) -> dict:
+    """The incremental mapper continuing `model` (written to OUT/start) with registration relaxed (EXTEND): the
+    photos of `database` it left out, registered against its points (id -> reconstruction)."""
+    import pycolmap
+
+    start = out / "start"
+    start.mkdir(parents=True)
+    model.write_binary(str(start))
+    return pycolmap.incremental_mapping(database, images, out, options=_incremental(threads, seed, EXTEND),
+                                        input_path=start, next_image_callback=progress, cancellation_token=token)
+
+
+def _incremental(threads: int, seed: int, mapper: dict):
+    """The incremental mapper's options: COLMAP's, with `mapper`'s values in place of its own."""
+    import pycolmap
+
+    options = pycolmap.IncrementalPipelineOptions()
+    options.num_threads, options.random_seed = threads, seed
+    for name, value in mapper.items():
+        setattr(options.mapper, name, value)
+    return options
 
 
 def _image_count(database: Path) -> int:
