@@ -119,7 +119,7 @@ def run_complete(config: CompleteConfig) -> dict:
     settings = dataclasses.replace(original.config.with_steps(config.steps or original.config.steps),
                                    scene=str(out.scene.root), out=str(out.run.root), seed=config.seed,
                                    device=config.device, resolution=1,  # the scene is written at the run's size
-                                   colour_correction=False)  # the fill takes the photos' colours, as the scene
+                                   colour_correction="off")  # the fill takes the photos' colours, as the scene
     settings, plugins = job.method.setup(job, settings)
     metrics = train(settings, resume=out.run.config_json.is_file(), plugins=plugins,
                     resume_hint="the same `python -m engine complete` command (or with --resume)")

@@ -23,6 +23,7 @@ PRESETS: dict[str, dict] = {
                  identity_every=1),
 }
 
+COLOUR_MODELS = ("off", "gain", "affine")  # engine.train.view_colours
 SCHEDULE = ("refine_start", "refine_stop", "reset_every")  # steps that scale with the run's length
 
 
@@ -53,7 +54,7 @@ class TrainConfig:
     lr_classifier: float = 5e-4  # learning rate of the per-pixel linear classifier
     ssim_weight: float = 0.2  # photometric loss: (1 - w) L1 + w (1 - SSIM)
     fused_ssim: bool = False  # the SSIM term by the fussim package's CUDA kernel (a measured lead; CUDA only)
-    colour_correction: bool = False  # a colour matrix and offset per training view, learned (engine.train.view_colours)
+    colour_correction: str = "off"  # off | gain | affine: a correction per training view (engine.train.view_colours)
     lr_colours: float = 1e-3  # learning rate of the per-view colour corrections
     identity_weight: float = 1.0  # weight of the identity cross-entropy (divided by log of the class count)
     identity_every: int = 8  # render and train the identities on every Nth step only (1: every step, the paper's)
@@ -73,6 +74,14 @@ class TrainConfig:
     keep_checkpoints: int = 2  # checkpoints kept on disk
     log_every: int = 100  # steps between progress lines
 
+    @classmethod
+    def from_saved(cls, values: dict) -> TrainConfig:
+        """A run's saved config.json. Runs saved while the colour correction was on or off stored a bool."""
+        colour = values.get("colour_correction", "off")
+        if isinstance(colour, bool):
+            values = {**values, "colour_correction": "affine" if colour else "off"}
+        return cls(**values)
+
     def sh_degree_at(self, step: int) -> int:
         """SH bands in use after `step` steps: one more every sh_degree_interval, up to sh_degree."""
         return min(step // self.sh_degree_interval, self.sh_degree)
@@ -84,6 +93,9 @@ class TrainConfig:
         its end)."""
         if self.preset not in PRESETS:
             raise InputError(f"unknown preset {self.preset!r}: choose from {', '.join(sorted(PRESETS))}")
+        if self.colour_correction not in COLOUR_MODELS:
+            raise InputError(f"unknown --colour-correction {self.colour_correction!r}: choose from "
+                             f"{', '.join(COLOUR_MODELS)}")
         defaults = TrainConfig()
         preset = PRESETS[self.preset]
         untouched = tuple(k for k in SCHEDULE if getattr(self, k) == getattr(defaults, k))

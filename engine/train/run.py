@@ -60,7 +60,7 @@ def prepare_run(config: TrainConfig, resume: bool) -> TrainConfig:
     if resume:
         if not layout.config_json.is_file():
             raise InputError(f"cannot resume {run}: it has no config.json; start a new run without --resume")
-        return TrainConfig(**json.loads(layout.config_json.read_text()))
+        return TrainConfig.from_saved(json.loads(layout.config_json.read_text()))
     if run.exists() and any(run.iterdir()):
         raise InputError(f"run folder {run} already exists: pass --resume to continue it, or choose a new --out")
     # absolute: later stages start from other folders (Blender, the benchmark) and read the scene from here

@@ -46,7 +46,7 @@ def _read_run(root: Path, scene: Path | str | None) -> tuple[TrainConfig, int, P
             raise InputError(f"{path} missing: {root} is not a finished training run "
                              f"(train with `python -m engine train --scene DIR --out {root}`, or --resume it)")
     try:
-        config = TrainConfig(**read_json(layout.config_json))
+        config = TrainConfig.from_saved(read_json(layout.config_json))
         steps = int(read_json(layout.metrics_json)["steps"])
     except (ValueError, TypeError, KeyError, OverflowError) as exc:
         raise InputError(f"cannot read {root}/config.json or metrics.json ({exc}); re-run training") from exc

@@ -161,8 +161,8 @@ class Trainer:
         self.images = {i: torch.as_tensor(scene.images[i], device=device) for i in scene.train}
         self.masks = ({i: torch.as_tensor(scene.masks[i], device=device).long() for i in scene.train}
                       if scene.masks is not None else None)
-        self.colours = (ViewColours(self.train_views, device, config.lr_colours) if config.colour_correction
-                        else None)
+        self.colours = (ViewColours(self.train_views, device, config.lr_colours, config.colour_correction)
+                        if config.colour_correction != "off" else None)
         self.step_index = 0
         self.seconds = 0.0
         self.part: Callable[[str], AbstractContextManager] = no_part  # names a step's parts for a profiler
