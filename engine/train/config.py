@@ -24,6 +24,7 @@ PRESETS: dict[str, dict] = {
 }
 
 COLOUR_MODELS = ("off", "gain", "affine")  # engine.train.view_colours
+MAX_VIEWS_PER_STEP = 8  # Adam's beta1 at B views a step is 1 - B (1 - 0.9) (gsplat's trainer): 0.2 at 8
 SCHEDULE = ("refine_start", "refine_stop", "reset_every")  # steps that scale with the run's length
 
 
@@ -54,6 +55,7 @@ class TrainConfig:
     lr_classifier: float = 5e-4  # learning rate of the per-pixel linear classifier
     ssim_weight: float = 0.2  # photometric loss: (1 - w) L1 + w (1 - SSIM)
     fused_ssim: bool = False  # the SSIM term by the fussim package's CUDA kernel (a measured lead; CUDA only)
+    views_per_step: int = 1  # training views each step renders, their losses averaged (gsplat's batch; MCMC only)
     colour_correction: str = "off"  # off | gain | affine: a correction per training view (engine.train.view_colours)
     lr_colours: float = 1e-3  # learning rate of the per-view colour corrections
     identity_weight: float = 1.0  # weight of the identity cross-entropy (divided by log of the class count)
@@ -101,7 +103,27 @@ class TrainConfig:
         untouched = tuple(k for k in SCHEDULE if getattr(self, k) == getattr(defaults, k))
         changes = {k: v for k, v in preset.items() if getattr(self, k) == getattr(defaults, k)}
         planned = dataclasses.replace(self, **{**changes, "steps": preset.get("steps", defaults.steps)})
-        return planned.with_steps(changes.get("steps", self.steps), untouched)
+        steps = changes.get("steps", self.steps)
+        if self.views_per_step == 1:
+            return planned.with_steps(steps, untouched)
+        return self._batched(planned, steps if self.steps != defaults.steps else steps // self.views_per_step,
+                             untouched)
+
+    def _batched(self, planned: TrainConfig, steps: int, untouched: tuple[str, ...]) -> TrainConfig:
+        """`planned` at `views_per_step` B views a step, as gsplat's trainer runs a batch (its steps_scaler 1/B):
+        the steps (where the user left them), the schedule, densification's interval and the SH bands' at 1/B,
+        so the run sees as many views and densifies as often per view seen."""
+        batch = self.views_per_step
+        if not 1 <= batch <= MAX_VIEWS_PER_STEP:
+            raise InputError(f"--views-per-step {batch}: choose 1 to {MAX_VIEWS_PER_STEP} (Adam's first moment "
+                             "decays as 1 - B (1 - 0.9))")
+        if self.max_gaussians <= 0:
+            raise InputError("--views-per-step above 1 needs a budget (--max-gaussians N, gsplat's MCMC): "
+                             "DefaultStrategy's gradient statistics are per view")
+        defaults = TrainConfig()
+        per_view = {k: max(1, round(getattr(planned, k) / batch)) for k in ("refine_every", "sh_degree_interval")
+                    if getattr(self, k) == getattr(defaults, k)}
+        return dataclasses.replace(planned, **per_view).with_steps(steps, untouched)
 
     def with_steps(self, steps: int, schedule: tuple[str, ...] = SCHEDULE) -> TrainConfig:
         """This config run for `steps` steps, its schedule stretched or shrunk to match (a completion that

@@ -97,6 +97,13 @@ def grouping_terms(trainer: Trainer, view: int, out) -> torch.Tensor | float:
         return loss + trainer.strategy.regularisation(trainer.params, cfg)
 
 
+def batch_adam(views: int, eps: float) -> dict:
+    """Adam's betas and eps at `views` views a step, as gsplat's trainer sets them for a batch (one view: torch's)."""
+    if views == 1:
+        return {"eps": eps}
+    return {"eps": eps / math.sqrt(views), "betas": (1 - views * (1 - 0.9), 1 - views * (1 - 0.999))}
+
+
 def no_part(name: str) -> AbstractContextManager:
     """A training step's parts are named for a profiler (benchmarks/train_profile.py sets Trainer.part to
     torch.profiler.record_function); in training they cost one empty context each."""
@@ -151,7 +158,8 @@ class Trainer:
         self.params = self._init_params(start)
         self.optimizers = {name: self._adam(name, p) for name, p in self.params.items()}
         self.classifier = (classifier or new_classifier(num_classes_of(scene))).to(device)
-        self.classifier_opt = AdamState(self.classifier.parameters(), lr=config.lr_classifier)
+        self.classifier_opt = AdamState(self.classifier.parameters(), lr=config.lr_classifier * self._batch_lr,
+                                        **batch_adam(config.views_per_step, 1e-8))
         self.strategy.check_sanity(self.params, self.optimizers)
         self.strategy_state = self.strategy.start(self.extent)
         self.regularizer = IdentityRegularizer(k=config.reg3d_k, samples=config.reg3d_samples,
@@ -184,7 +192,12 @@ class Trainer:
 
     def _adam(self, name: str, param: torch.nn.Parameter) -> AdamState:
         lr = getattr(self.config, f"lr_{name}") * (self.extent if name == "means" else 1.0)
-        return AdamState([param], lr=lr, eps=1e-15, name=name)
+        return AdamState([param], lr=lr * self._batch_lr, **batch_adam(self.config.views_per_step, 1e-15), name=name)
+
+    @property
+    def _batch_lr(self) -> float:
+        """Learning rates at B views a step: sqrt(B) times (gsplat's trainer)."""
+        return math.sqrt(self.config.views_per_step)
 
     def _next_view(self) -> int:
         if not self.order:
@@ -193,24 +206,21 @@ class Trainer:
 
     def _means_lr(self, step: int) -> float:
         cfg = self.config
-        return cfg.lr_means * self.extent * cfg.lr_means_final_ratio ** (step / max(cfg.steps, 1))
+        return cfg.lr_means * self.extent * self._batch_lr * cfg.lr_means_final_ratio ** (step / max(cfg.steps, 1))
 
     def step(self) -> StepResult:
-        """One training step on one training view. Its parts are named (`part`) so that a profile can say
-        where a step's time goes (docs/BENCHMARKS.md, "Training")."""
+        """One training step on `views_per_step` training views (their losses averaged). Its parts are named
+        (`part`) so that a profile can say where a step's time goes (docs/BENCHMARKS.md, "Training")."""
         part, step = self.part, self.step_index
         with part("data"):
             lr = self._means_lr(step)
             self.optimizers["means"].param_groups[0]["lr"] = lr
-            view = self._next_view()
             identity = self.masks is not None and step % self.config.identity_every == 0
-            target = self.images[view].float() / 255.0
-        with part("render"):
-            out = render(self._rendered(), self.cameras[view], self.sh_degree, classifier=self.classifier,
-                         depth=self.objective.needs_depth, identity=identity)
-            if self.colours is not None:  # the view's photo's exposure and white balance
-                out = dataclasses.replace(out, rgb=self.colours(view, out.rgb))
-        loss = self.objective(self, view, out, target)
+        views = self.config.views_per_step
+        loss = 0.0
+        for _ in range(views):
+            out, target, view_loss = self._view_loss(identity)
+            loss = loss + (view_loss if views == 1 else view_loss / views)
         with part("strategy"):
             self.strategy.step_pre_backward(self.params, self.optimizers, self.strategy_state, step, out.info)
         with part("backward"):
@@ -220,11 +230,24 @@ class Trainer:
                        *(() if self.colours is None else (self.colours.optimizer,))))
             if self.colours is not None:
                 self.colours.recentre()
-        with part("strategy"):
+        with part("strategy"):  # MCMC (the only strategy at several views a step) reads no view's info
             self.strategy.after_backward(self.params, self.optimizers, self.strategy_state, step,
                                          trained_part(out.info, self.fixed_count), lr)
         self.step_index += 1
         return StepResult(loss=loss.detach(), rgb=out.rgb.detach(), target=target)
+
+    def _view_loss(self, identity: bool):
+        """The next training view's render, its photo and its loss."""
+        part = self.part
+        with part("data"):
+            view = self._next_view()
+            target = self.images[view].float() / 255.0
+        with part("render"):
+            out = render(self._rendered(), self.cameras[view], self.sh_degree, classifier=self.classifier,
+                         depth=self.objective.needs_depth, identity=identity)
+            if self.colours is not None:  # the view's photo's exposure and white balance
+                out = dataclasses.replace(out, rgb=self.colours(view, out.rgb))
+        return out, target, self.objective(self, view, out, target)
 
     @property
     def fixed_count(self) -> int:
