@@ -9,7 +9,10 @@ With `--plane`, each of ours also fills through the support plane's texture (eng
 the texture gathered from the training views' truth outside them, inpainted once and carried into each scored view
 (its pixels off the plane keep the view's own fill).
 
-    PYTHONPATH=. python benchmarks/fill_2d.py SCENE... [--plane] [--json OUT]
+With `--grow PX` the region blanked and filled is the true hole grown by PX (as `inpaint` grows the masks, 4% of
+the width by default), still scored in the true hole: what the growth alone costs each fill.
+
+    PYTHONPATH=. python benchmarks/fill_2d.py SCENE... [--plane] [--grow PX] [--only NAME...] [--json OUT]
 
 The test views are scored (those the held-out table scores). The PatchMatch libraries are not the engine's
 requirements: `pip install patchmatch-cython pypatchmatch` where this runs (a missing one is skipped and named).
@@ -36,17 +39,21 @@ RING_PX = 6  # the plane is fitted to the truth's depth this far around the trai
 PLANE_TOL = 0.03  # share of the depth a ring point may lie off the plane (engine.edit.support_plane)
 
 
-def inpainters() -> tuple[dict[str, object], dict[str, Callable], dict[str, str]]:
+def inpainters(only: list[str] | None = None) -> tuple[dict[str, object], dict[str, Callable], dict[str, str]]:
     """Our inpainters (name -> Inpainter), name -> fill(rgb, hole) for ours and the registry's PatchMatch
-    libraries, and those that could not load."""
+    libraries (those of `only` where given), and those that could not load."""
     ours, fills, missing = {}, {}, {}
     for name in OURS:
+        if only and name not in only:
+            continue
         try:
             ours[name] = create(name)
         except Exception as exc:  # an inpainter whose requirement is absent here (fsr without contrib)
             missing[name] = str(exc)
             continue
         fills[name] = lambda im, m, inp=ours[name]: inp.inpaint(im, m, "rgb")
+    if only and not {"patchmatch-cython", "pypatchmatch"} & set(only):
+        return ours, fills, missing
     try:
         import patchmatch_cython
 
@@ -123,9 +130,11 @@ def perceptual(network, image: np.ndarray, truth: np.ndarray, hole: np.ndarray) 
     return network.score([image], [truth], [hole]).values["m_st_lpips"]
 
 
-def score(scene_dir: Path, ours: dict, fills: dict[str, Callable], plane: bool, network) -> dict[str, list[dict]]:
+def score(scene_dir: Path, ours: dict, fills: dict[str, Callable], plane: bool, network,
+          grow: int = 0) -> dict[str, list[dict]]:
     """Per fill (and with `plane`, per `plane-` fill of ours), per scored view: m-PSNR, m-ST-LPIPS, seconds per
-    megapixel (of the view's own fill), and for the plane fills the share of the hole read from the texture."""
+    megapixel (of the view's own fill), and for the plane fills the share of the hole read from the texture; the
+    true hole grown by `grow` px is what is blanked and filled."""
     scene = load_scene(scene_dir, depth=plane)
     scored = [i for i in scene.test if i in scene.holes and scene.holes[i].sum() >= MIN_HOLE_PX]
     texture = PlaneTexture(scene, scored) if plane else None
@@ -133,11 +142,12 @@ def score(scene_dir: Path, ours: dict, fills: dict[str, Callable], plane: bool, 
     out: dict[str, list[dict]] = {name: [] for name in [*fills, *(f"plane-{n}" for n in filled)]}
     for i in scored:
         truth, hole = scene.gt_images[i], scene.holes[i]
+        filled_region = dilate(hole, grow) if grow else hole
         blank = truth.copy()
-        blank[hole] = 0
+        blank[filled_region] = 0
         for name, fill in fills.items():
             start = time.perf_counter()
-            image = fill(blank, hole)
+            image = fill(blank, filled_region)
             seconds = time.perf_counter() - start
             out[name].append({"m_psnr": masked_psnr(image, truth, hole), "s_per_mp": seconds / (hole.size / 1e6),
                               "m_st_lpips": perceptual(network, image, truth, hole)})
@@ -157,13 +167,15 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("scenes", nargs="+", type=Path)
     parser.add_argument("--plane", action="store_true", help="also fill ours through the support plane's texture")
+    parser.add_argument("--grow", type=int, default=0, help="px the blanked and filled region grows past the hole")
+    parser.add_argument("--only", nargs="+", help="these fills alone (names as in the output)")
     parser.add_argument("--json", type=Path)
     args = parser.parse_args()
-    ours, fills, missing = inpainters()
+    ours, fills, missing = inpainters(args.only)
     network = scorer()
     table = {}
     for scene in args.scenes:
-        scored = score(scene, ours, fills, args.plane, network)
+        scored = score(scene, ours, fills, args.plane, network, args.grow)
         table[scene.name] = {name: summary(v) for name, v in scored.items() if v}
         print(scene.name, {k: (v["m_psnr"], v.get("m_st_lpips")) for k, v in table[scene.name].items()}, flush=True)
     names = sorted({n for s in table.values() for n in s}, key=lambda n: (n.startswith("plane-"), n))
@@ -171,7 +183,7 @@ def main() -> None:
                  if all(k in table[s].get(n, {}) for s in table)} for n in names}
     print("means", means, "missing", missing or "none")
     if args.json:
-        args.json.write_text(json.dumps({"scenes": table, "means": means, "missing": missing,
+        args.json.write_text(json.dumps({"scenes": table, "means": means, "missing": missing, "grow_px": args.grow,
                                          "perceptual": "m_st_lpips" if network else "none (no ST-LPIPS weights)"},
                                         indent=1))
 
