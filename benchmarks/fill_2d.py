@@ -91,7 +91,10 @@ class PlaneTexture:
             unit, z = plane_along_rays(scene.cameras[i], ys, xs, self.plane)
             ahead = np.isfinite(z) & (z > 0)
             points.append(scene.cameras[i].center + unit[ahead] * z[ahead, None])
-        footprint = Footprint.of(np.concatenate(points), self.plane[0])
+        footprint = Footprint.of(np.concatenate(points), self.plane[0]) if points else None
+        if footprint is None:  # under 20 hole pixels meet the plane: no texture to speak of
+            self.plane = None
+            return
         self.grid = texture_grid(self.plane, footprint, cameras)
         self.texture, self.seen, needed = gather(self.grid, cameras, [scene.gt_images[i] for i in train],
                                                  [scene.holes[i] for i in train], [scene.gt_depths[i] for i in train])
