@@ -14,7 +14,8 @@ machine, with either seed), so where it too leaves photos out `best` runs it onc
 (`global-reseeded`), and last (`extended`) the incremental mapper continues the model kept so far, registering
 the photos it left out against its points with COLMAP's registration thresholds relaxed (EXTEND): with six
 consecutive frames of that video taken out of the global model, COLMAP's thresholds placed two of them back, EXTEND
-all six, each within 2% of the scene's size of where the full model had it.
+all six, each within 2% of the scene's size of where the full model had it (once under load one round placed
+three: the extension runs again from its own result while it places more, EXTEND_ROUNDS).
 
 A photo left out gets the first reason that holds: it went into a smaller model; it is blurred (the variance of
 its Laplacian under BLUR_SHARE of the set's median); it has too few verified matches with any other photo (under
@@ -34,7 +35,9 @@ from engine.capture.photos import sharpness
 
 MAPPERS = ("best", "incremental", "global")
 RELAXED = {"init_min_num_inliers": 50, "init_min_tri_angle": 8.0}  # COLMAP's: 100 inliers, 16 degrees
-EXTEND = {"abs_pose_min_num_inliers": 15, "abs_pose_min_inlier_ratio": 0.1}  # COLMAP's: 30 inliers, 0.25
+EXTEND = {"abs_pose_min_num_inliers": 15, "abs_pose_min_inlier_ratio": 0.1,  # COLMAP's: 30 inliers, 0.25,
+          "max_reg_trials": 10}  # and 3 tries a photo
+EXTEND_ROUNDS = 3  # the extension runs again from its own result while it places more
 BLUR_SHARE = 0.35  # sharper than this share of the set's median sharpness is not blurred
 SHARPNESS_PX = 512  # longer side the sharpness is measured at (so photo size does not decide it)
 
@@ -105,14 +108,27 @@ def _run(attempt: str, database: Path, images: Path, out: Path, threads: int, to
 
 def extend(model, database: Path, images: Path, out: Path, threads: int, token, progress, seed: int = 0) -> dict:
     """The incremental mapper continuing `model` (written to OUT/start) with registration relaxed (EXTEND): the
-    photos of `database` it left out, registered against its points (id -> reconstruction)."""
+    photos of `database` it left out, registered against its points (id -> reconstruction). Again from its own
+    result, up to EXTEND_ROUNDS times, while a round places more: a photo placed late adds the points its
+    neighbours need."""
     import pycolmap
 
-    start = out / "start"
-    start.mkdir(parents=True)
-    model.write_binary(str(start))
-    return pycolmap.incremental_mapping(database, images, out, options=_incremental(threads, seed, EXTEND),
-                                        input_path=start, next_image_callback=progress, cancellation_token=token)
+    models: dict = {0: model}
+    for round_ in range(EXTEND_ROUNDS):
+        start, result = out / f"start{round_}", out / f"round{round_}"
+        start.mkdir(parents=True)
+        result.mkdir()
+        largest = max(models.values(), key=lambda m: m.num_reg_images())
+        largest.write_binary(str(start))
+        grown = pycolmap.incremental_mapping(database, images, result,
+                                             options=_incremental(threads, seed, EXTEND), input_path=start,
+                                             next_image_callback=progress, cancellation_token=token)
+        if not grown or token is not None and token.is_cancelled:
+            break
+        models = grown
+        if max(m.num_reg_images() for m in grown.values()) <= largest.num_reg_images():
+            break
+    return models
 
 
 def _incremental(threads: int, seed: int, mapper: dict):
