@@ -107,10 +107,10 @@ def _run(attempt: str, database: Path, images: Path, out: Path, threads: int, to
 
 
 def extend(model, database: Path, images: Path, out: Path, threads: int, token, progress, seed: int = 0) -> dict:
-    """The incremental mapper continuing `model` (written to OUT/start) with registration relaxed (EXTEND): the
-    photos of `database` it left out, registered against its points (id -> reconstruction). Again from its own
-    result, up to EXTEND_ROUNDS times, while a round places more: a photo placed late adds the points its
-    neighbours need."""
+    """The incremental mapper continuing `model` with registration relaxed (EXTEND): the photos of `database` it
+    left out, registered against its points (id -> reconstruction). Again from its own result, up to EXTEND_ROUNDS
+    times, while a round places more: a photo placed late adds the points its neighbours need. Round k reads its
+    start from OUT/startK and writes to OUT/roundK."""
     import pycolmap
 
     models: dict = {0: model}
