@@ -47,7 +47,8 @@ class CaptureConfig:
     mapper: str = "best"  # best (incremental; relaxed and global where it leaves photos out) | incremental | global
     min_registered: float = 0.5  # refuse when SfM registers fewer than this share of the images
     threads: int = -1  # CPU threads for SfM (-1: all)
-    seed: int = 0  # the mappers' sampling seed (one thread: the same scene each run; COLMAP's -1 draws one a run)
+    seed: int = 0  # the matches' and mappers' sampling seed (one thread: the same scene each run; COLMAP's -1
+    # draws one a run)
 
 
 def run_capture(config: CaptureConfig) -> dict:
@@ -188,17 +189,18 @@ def _matches(work: Path, config: CaptureConfig, token) -> None:
     sequential = config.matching == "sequential" or (config.matching == "auto" and bool(config.video))
     options = pycolmap.FeatureMatchingOptions()
     options.num_threads = config.threads
+    verification = pycolmap.TwoViewGeometryOptions()  # RANSAC seeded: the same photos give the same matches
+    verification.ransac.random_seed = config.seed
+    common = dict(matching_options=options, verification_options=verification, device=pycolmap.Device.cpu,
+                  cancellation_token=token)
     if config.matching == "vocab":
         pairing = pycolmap.VocabTreePairingOptions()
         pairing.vocab_tree_path = config.vocab_tree
-        pycolmap.match_vocabtree(work / "database.db", matching_options=options, pairing_options=pairing,
-                                 device=pycolmap.Device.cpu, cancellation_token=token)
+        pycolmap.match_vocabtree(work / "database.db", pairing_options=pairing, **common)
     elif sequential:
-        pycolmap.match_sequential(work / "database.db", matching_options=options, device=pycolmap.Device.cpu,
-                                  cancellation_token=token)
+        pycolmap.match_sequential(work / "database.db", **common)
     else:
-        pycolmap.match_exhaustive(work / "database.db", matching_options=options, device=pycolmap.Device.cpu,
-                                  cancellation_token=token)
+        pycolmap.match_exhaustive(work / "database.db", **common)
 
 
 def _mapping(images: Path, work: Path, config: CaptureConfig, token, total: int):

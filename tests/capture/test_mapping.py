@@ -79,11 +79,13 @@ def test_a_video_of_an_orbit_registers_from_its_sharpest_frames(orbit_video: Pat
     assert all(int(name[6:11]) % 3 == 1 for name in kept), kept  # the middle, sharp frame of each view
 
 
-def test_the_model_kept_is_extended_with_the_frames_it_left_out(orbit_video: Path, tmp_path: Path):
+def test_the_model_kept_is_extended_with_the_frames_it_left_out(orbit_video: Path, tmp_path: Path,
+                                                                tmp_path_factory):
     """The global mapper placed 27 and 34 of the video's 40 frames on CI's machine (all 40 here): with six
-    consecutive frames taken out of the global model, `extend` places them back where the full model has them
-    (COLMAP's own registration thresholds placed two of the six; one round of the extension three, once, under
-    make test's load: it runs again while it places more)."""
+    consecutive frames taken out of a model of the video, `extend` places them back where they truly are (COLMAP's
+    own registration thresholds placed two of the six). The model is the scene's true cameras with points
+    triangulated from the video's matches, not the global mapper's: that one put a frame several times the scene's
+    size away in some runs here, and the test then judged the extension against a wrong model."""
     import zlib  # noqa: F401,I001  -- before pycolmap, see engine/io/colmap_model.py
     import pycolmap
 
@@ -95,28 +97,55 @@ def test_the_model_kept_is_extended_with_the_frames_it_left_out(orbit_video: Pat
     names = prepare_video(orbit_video, frames, 40, 1600)
     pycolmap.extract_features(database, frames, image_names=names, camera_mode=pycolmap.CameraMode.SINGLE,
                               device=pycolmap.Device.cpu)
-    pycolmap.match_sequential(database, device=pycolmap.Device.cpu)
-    options = pycolmap.GlobalPipelineOptions()
-    options.num_threads = 1
-    (tmp_path / "global").mkdir()
-    full = max(pycolmap.global_mapping(database, frames, tmp_path / "global", options=options).values(),
-               key=lambda model: model.num_reg_images())
-    assert full.num_reg_images() == 40
+    verification = pycolmap.TwoViewGeometryOptions()
+    verification.ransac.random_seed = 0
+    pycolmap.match_sequential(database, verification_options=verification, device=pycolmap.Device.cpu)
+    truth = pycolmap.Reconstruction(str(orbit_scene(tmp_path_factory) / "sparse" / "0"))
+    full = true_model(truth, database, frames, tmp_path / "triangulated")
+    ordered = sorted(full.reg_image_ids(), key=lambda i: full.images[i].name)
     cut = pycolmap.Reconstruction(full)
-    ordered = sorted(cut.reg_image_ids(), key=lambda i: cut.images[i].name)
     for image_id in ordered[5:11]:
         cut.deregister_frame(cut.images[image_id].frame_id)
     extended = max(extend(cut, database, frames, tmp_path / "extended", 1, None, None).values(),
                    key=lambda model: model.num_reg_images())
     cut_names = {full.images[i].name for i in ordered[5:11]}
-    back = cut_names & placed_names(extended)
-    assert len(back) >= 4, sorted(cut_names - back)  # 6 of 6 in 20 runs of 21; COLMAP's thresholds: 2
-    by_name = [{model.images[i].name: model.images[i].projection_center() for i in model.reg_image_ids()}
-               for model in (extended, full)]
-    common = sorted(set(by_name[0]) & set(by_name[1]))
-    centres = [np.array([centre[name] for name in common]) for centre in by_name]
-    onto = umeyama(*centres)
-    size = np.linalg.norm(centres[1] - centres[1].mean(0), axis=1).mean()
-    error = np.linalg.norm(onto.points(centres[0]) - centres[1], axis=1) / size
-    replaced = [common.index(name) for name in back]
-    assert error[replaced].max() < 0.05, error.round(3)  # 0.7-2.1% here (the loop's far end moves up to 11%)
+    back = sorted(cut_names & placed_names(extended))
+    assert len(back) >= 5, sorted(cut_names - set(back))  # 6 of 6 in 48 runs of 48; COLMAP's thresholds: 2
+    placed, true = centres(extended), centres(full)
+    kept = [name for name in placed if name not in cut_names]
+    onto = umeyama(np.array([placed[n] for n in kept]), np.array([true[n] for n in kept]))
+    size = np.linalg.norm(np.array(list(true.values())) - np.mean(list(true.values()), axis=0), axis=1).mean()
+    error = np.linalg.norm(onto.points(np.array([placed[n] for n in back])) - np.array([true[n] for n in back]),
+                           axis=1) / size
+    assert error.max() < 0.1, error.round(3)  # 1-6% here in 47 runs of 48, 9.9% in one (the far end bent)
+
+
+def centres(model) -> dict[str, np.ndarray]:
+    """Each registered photo's camera centre, by name."""
+    return {model.images[i].name: model.images[i].projection_center() for i in model.reg_image_ids()}
+
+
+def true_model(truth, database: Path, frames: Path, out: Path):
+    """The video's frames at the scene's true poses (frame 3k+1 is view k) with one camera of the true focal
+    length, and points triangulated from the database's matches: a model with no mapper's error in it."""
+    import pycolmap
+
+    db = pycolmap.Database.open(database)
+    try:
+        camera, images = db.read_all_cameras()[0], db.read_all_images()
+        keypoints = {image.image_id: db.read_keypoints(image.image_id)[:, :2].astype(np.float64) for image in images}
+    finally:
+        db.close()
+    poses = {truth.images[i].name: truth.images[i].cam_from_world() for i in truth.reg_image_ids()}
+    lens = next(iter(truth.cameras.values())).params
+    model = pycolmap.Reconstruction()
+    model.add_camera_with_trivial_rig(pycolmap.Camera(
+        model="SIMPLE_RADIAL", width=camera.width, height=camera.height, camera_id=camera.camera_id,
+        params=[lens[0], lens[2], lens[3], 0.0]))
+    for image in images:
+        view = f"{(int(image.name[6:11]) - 1) // 3:04d}.png"
+        model.add_image_with_trivial_frame(pycolmap.Image(name=image.name, keypoints=keypoints[image.image_id],
+                                                          camera_id=camera.camera_id, image_id=image.image_id),
+                                           poses[view])
+    out.mkdir()
+    return pycolmap.triangulate_points(model, database, frames, out)
