@@ -84,8 +84,8 @@ def test_the_model_kept_is_extended_with_the_frames_it_left_out(orbit_video: Pat
     """The global mapper placed 27 and 34 of the video's 40 frames on CI's machine (all 40 here): with six
     consecutive frames taken out of a model of the video, `extend` places them back where they truly are (COLMAP's
     own registration thresholds placed two of the six). The model is the scene's true cameras with points
-    triangulated from the video's matches, not the global mapper's: that one put a frame several times the scene's
-    size away in some runs here, and the test then judged the extension against a wrong model."""
+    triangulated from the video's matches, not the global mapper's: that one put a frame 5.5 times the scene's size
+    away in some runs here, and the test then judged the extension against a wrong model."""
     import zlib  # noqa: F401,I001  -- before pycolmap, see engine/io/colmap_model.py
     import pycolmap
 
@@ -117,7 +117,9 @@ def test_the_model_kept_is_extended_with_the_frames_it_left_out(orbit_video: Pat
     size = np.linalg.norm(np.array(list(true.values())) - np.mean(list(true.values()), axis=0), axis=1).mean()
     error = np.linalg.norm(onto.points(np.array([placed[n] for n in back])) - np.array([true[n] for n in back]),
                            axis=1) / size
-    assert error.max() < 0.1, error.round(3)  # 1-6% here in 47 runs of 48, 9.9% in one (the far end bent)
+    # 1-6% in 47 scratch runs of 48 here, 9.9% in one (the extension's bundle adjustment bent the loop's far end);
+    # a frame the global mapper misplaced (above) was 5.5 times the scene's size off
+    assert error.max() < 0.15, error.round(3)
 
 
 def centres(model) -> dict[str, np.ndarray]:
