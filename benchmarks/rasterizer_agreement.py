@@ -5,7 +5,8 @@
 Gaussians are initialised from the scene's points with seeded random rotations, anisotropic scales,
 opacities, SH and identities; both back ends render the same views in float32 on the GPU, and a fixed
 random weighting of every output channel is back-propagated through each. Also compares the torch
-fallbacks of gsplat's MCMC ops (engine.train.gsplat_cpu) with the CUDA kernels. Engine Python; needs CUDA.
+fallbacks of gsplat's MCMC ops (engine.train.gsplat_cpu) with the CUDA kernels, and gsplat's views rendered in one
+call (render_views) with each rendered alone. Engine Python; needs CUDA.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from engine.base.versions import code_commit  # noqa: E402
 from engine.capture.scene import load_scene  # noqa: E402
 from engine.io.gaussians import init_from_points  # noqa: E402
-from engine.render.rasterize import CameraTensors, render  # noqa: E402
+from engine.render.rasterize import CameraTensors, render, render_views  # noqa: E402
 
 
 def random_gaussians(scene, device, seed: int = 0) -> dict[str, torch.Tensor]:
@@ -71,6 +72,25 @@ def compare(scene, views: list[int], device) -> dict:
     return result
 
 
+def compare_batched(scene, views: list[int], device) -> dict:
+    """gsplat's views in one call (render_views, what a step of several views renders) against each alone:
+    images and gradients."""
+    params = random_gaussians(scene, device)
+    cameras = [CameraTensors.from_camera(scene.cameras[i], device) for i in views]
+    gen = torch.Generator(device=device).manual_seed(1)
+    weights = [torch.rand(cameras[0].height, cameras[0].width, 3, generator=gen, device=device) for _ in cameras]
+    result = {}
+    for way, render_all in (("together", lambda: render_views(params, cameras, 3, backend="gsplat")),
+                            ("alone", lambda: [render(params, c, 3, backend="gsplat") for c in cameras])):
+        for p in params.values():
+            p.grad = None
+        outs = render_all()
+        sum((o.rgb * w).sum() + o.identity.sum() for o, w in zip(outs, weights, strict=True)).backward()
+        result[way] = (torch.stack([o.rgb.detach() for o in outs]), params["means"].grad.clone())
+    (a, ga), (b, gb) = result["together"], result["alone"]
+    return {"rgb_max_abs": float((a - b).abs().max()), "means_grad_rel_l2": float((ga - gb).norm() / gb.norm())}
+
+
 def compare_mcmc_ops(device) -> dict:
     import gsplat
     from gsplat.relocation import compute_relocation as cuda_relocation
@@ -110,7 +130,7 @@ def main() -> int:
     result = {"scene": args.scene, "gaussians": len(scene.points), "size": [scene.cameras[0].width,
                                                                            scene.cameras[0].height],
               "device": torch.cuda.get_device_name(), "commit": code_commit(), **compare(scene, args.views, device),
-              "mcmc_ops": compare_mcmc_ops(device)}
+              "mcmc_ops": compare_mcmc_ops(device), "batched_views": compare_batched(scene, args.views, device)}
     text = json.dumps(result, indent=1)
     print(text)
     if args.out:

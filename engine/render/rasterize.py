@@ -102,17 +102,33 @@ def rasterize(gaussians: Gaussians, features: torch.Tensor, camera: CameraTensor
               depth: bool = True) -> tuple[torch.Tensor, torch.Tensor, dict]:
     """Blend per-Gaussian `features` (N, D) into (H, W, D [+ 1 expected depth]) and alpha (H, W, 1) on
     either back end: the one rasterization every render here goes through."""
+    colors, alphas, info = rasterize_views(gaussians, features[None], [camera], backend, depth)
+    return colors[0], alphas[0], info
+
+
+def rasterize_views(gaussians: Gaussians, features: torch.Tensor, cameras: list[CameraTensors], backend: str,
+                    depth: bool = True) -> tuple[torch.Tensor, torch.Tensor, dict]:
+    """`rasterize` for C cameras of one size at once, `features` (C, N, D) one set a camera: (C, H, W, D [+ 1]),
+    (C, H, W, 1) and one info for the C views (gsplat's, (C, N, ...)). gsplat blends them in one call, one set of
+    launches for all C: a training step is bound by the host's launches, not by pixels (at 320x240 a step took
+    what it takes at 640x480; docs/BENCHMARKS.md, "Training"). The reference renders them one by one."""
     args = (gaussians["means"], gaussians["quats"], torch.exp(gaussians["scales"]),
-            torch.sigmoid(gaussians["opacities"]), features)
+            torch.sigmoid(gaussians["opacities"]))
+    width, height = cameras[0].width, cameras[0].height
+    if any((c.width, c.height) != (width, height) for c in cameras):
+        raise ValueError("rasterize_views takes cameras of one size")
     if backend == "gsplat":
-        colors, alphas, info = gsplat_rasterization()(
-            *args, camera.viewmat[None], camera.K[None], camera.width, camera.height, near_plane=NEAR_PLANE,
-            far_plane=FAR_PLANE, eps2d=EPS2D, sh_degree=None, packed=False, tile_size=TILE_SIZE,
-            render_mode="RGB+ED" if depth else "RGB")
-        return colors[0], alphas[0], info
-    colors, alphas, info = rasterize_reference(*args, camera.viewmat, camera.K, camera.width, camera.height,
-                                               NEAR_PLANE, FAR_PLANE, EPS2D)
-    return (colors if depth else colors[..., :-1]), alphas, info
+        return gsplat_rasterization()(
+            *args, features, torch.stack([c.viewmat for c in cameras]), torch.stack([c.K for c in cameras]), width,
+            height, near_plane=NEAR_PLANE, far_plane=FAR_PLANE, eps2d=EPS2D, sh_degree=None, packed=False,
+            tile_size=TILE_SIZE, render_mode="RGB+ED" if depth else "RGB")
+    views = [rasterize_reference(*args, view_features, camera.viewmat, camera.K, width, height, NEAR_PLANE,
+                                 FAR_PLANE, EPS2D) for view_features, camera in zip(features, cameras, strict=True)]
+    colors = torch.stack([c if depth else c[..., :-1] for c, _, _ in views])
+    infos = [info for _, _, info in views]  # one view's as it is: DefaultStrategy reads its means2d's gradient
+    info = infos[0] if len(infos) == 1 else infos[0] | {
+        "n_cameras": len(infos), **{key: torch.cat([i[key] for i in infos]) for key in ("means2d", "radii", "depths")}}
+    return colors, torch.stack([a for _, a, _ in views]), info
 
 
 def render(gaussians: Gaussians, camera: CameraTensors, sh_degree: int, backend: str | None = None,
@@ -120,15 +136,33 @@ def render(gaussians: Gaussians, camera: CameraTensors, sh_degree: int, backend:
     """Render `gaussians` (see engine.io.gaussians) seen by `camera`, using SH bands up to `sh_degree`;
     with `classifier`, also the per-pixel class logits; `depth=False` skips the depth channel; `identity=False`
     blends RGB alone (a training step with no identity loss: 3 channels instead of 9 or 19)."""
+    return render_views(gaussians, [camera], sh_degree, backend, classifier, depth, identity)[0]
+
+
+def render_views(gaussians: Gaussians, cameras: list[CameraTensors], sh_degree: int, backend: str | None = None,
+                 classifier: torch.nn.Linear | None = None, depth: bool = True,
+                 identity: bool = True) -> list[RenderOutput]:
+    """`render` for cameras of one size in one rasterization (rasterize_views); each output's info is the
+    batch's, (C, N, ...)."""
     means = gaussians["means"]
     backend = backend or default_backend(means.device)
-    rgb = torch.clamp_min(sh_colors(gaussians, means.detach() - camera.center, sh_degree, backend) + 0.5, 0.0)
+    rgbs = [torch.clamp_min(sh_colors(gaussians, means.detach() - c.center, sh_degree, backend) + 0.5, 0.0)
+            for c in cameras]
+    rgb = rgbs[0][None] if len(rgbs) == 1 else torch.stack(rgbs)  # one view: no copy
     features, project_first = rgb, False
     if identity:
         encoding = gaussians["identity"]
         project_first = classifier is not None and classifier.out_features <= encoding.shape[-1]
-        features = torch.cat([rgb, encoding @ classifier.weight.T if project_first else encoding], dim=-1)
-    colors, alphas, info = rasterize(gaussians, features, camera, backend, depth)
+        blended = encoding @ classifier.weight.T if project_first else encoding
+        features = torch.cat([rgb, blended[None].expand(len(cameras), -1, -1)], dim=-1)
+    colors, alphas, info = rasterize_views(gaussians, features, cameras, backend, depth)
+    return [_output(view_colors, view_alphas, info, classifier, depth, identity, project_first)
+            for view_colors, view_alphas in zip(colors, alphas, strict=True)]
+
+
+def _output(colors: torch.Tensor, alphas: torch.Tensor, info: dict, classifier: torch.nn.Linear | None, depth: bool,
+            identity: bool, project_first: bool) -> RenderOutput:
+    """One view's RenderOutput from its blended channels: RGB, then identity or logits, then depth."""
     channels = colors[..., 3:-1] if depth else colors[..., 3:]
     if not identity:
         blended_identity, logits = None, None

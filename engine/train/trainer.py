@@ -23,7 +23,7 @@ from engine.base.errors import InputError
 from engine.capture.scene import Scene
 from engine.io.gaussians import PARAM_NAMES, Gaussians, concat, init_from_points, new_classifier
 from engine.metrics.image_metrics import psnr_from_mse
-from engine.render.rasterize import CameraTensors, render
+from engine.render.rasterize import CameraTensors, render, render_views
 from engine.train.adam_step import AdamState, adam_step
 from engine.train.config import TrainConfig
 from engine.train.identity_regularizer import IdentityRegularizer
@@ -216,11 +216,9 @@ class Trainer:
             lr = self._means_lr(step)
             self.optimizers["means"].param_groups[0]["lr"] = lr
             identity = self.masks is not None and step % self.config.identity_every == 0
-        views = self.config.views_per_step
-        loss = 0.0
-        for _ in range(views):
-            out, target, view_loss = self._view_loss(identity)
-            loss = loss + (view_loss if views == 1 else view_loss / views)
+        outs, targets, losses = self._views_loss(identity)
+        loss = losses[0] if len(losses) == 1 else sum(losses) / len(losses)
+        out, target = outs[-1], targets[-1]
         with part("strategy"):
             self.strategy.step_pre_backward(self.params, self.optimizers, self.strategy_state, step, out.info)
         with part("backward"):
@@ -236,18 +234,27 @@ class Trainer:
         self.step_index += 1
         return StepResult(loss=loss.detach(), rgb=out.rgb.detach(), target=target)
 
-    def _view_loss(self, identity: bool):
-        """The next training view's render, its photo and its loss."""
+    def _views_loss(self, identity: bool):
+        """The step's training views rendered (in one rasterization where they share a size: a step is bound
+        by the host's launches, engine.render.rasterize.rasterize_views), their photos and their losses."""
         part = self.part
         with part("data"):
-            view = self._next_view()
-            target = self.images[view].float() / 255.0
+            views = [self._next_view() for _ in range(self.config.views_per_step)]
+            targets = [self.images[view].float() / 255.0 for view in views]
         with part("render"):
-            out = render(self._rendered(), self.cameras[view], self.sh_degree, classifier=self.classifier,
-                         depth=self.objective.needs_depth, identity=identity)
-            if self.colours is not None:  # the view's photo's exposure and white balance
-                out = dataclasses.replace(out, rgb=self.colours(view, out.rgb))
-        return out, target, self.objective(self, view, out, target)
+            gaussians, cameras = self._rendered(), [self.cameras[view] for view in views]
+            options = dict(sh_degree=self.sh_degree, classifier=self.classifier, depth=self.objective.needs_depth,
+                           identity=identity)
+            if len({(camera.width, camera.height) for camera in cameras}) == 1:
+                outs = render_views(gaussians, cameras, **options)
+            else:
+                outs = [render(gaussians, camera, **options) for camera in cameras]
+            if self.colours is not None:  # each view's photo's exposure and white balance
+                outs = [dataclasses.replace(out, rgb=self.colours(view, out.rgb))
+                        for view, out in zip(views, outs, strict=True)]
+        losses = [self.objective(self, view, out, target)
+                  for view, out, target in zip(views, outs, targets, strict=True)]
+        return outs, targets, losses
 
     @property
     def fixed_count(self) -> int:

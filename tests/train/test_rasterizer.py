@@ -133,3 +133,31 @@ def test_the_sh_polynomials_blender_shades_with_are_the_engines_basis():
     x, y, z = dirs.unbind(-1)
     table = torch.stack([sum(c * x**a * y**b * z**e for c, (a, b, e) in terms) for terms in SH_POLYNOMIALS], -1)
     assert torch.allclose(table, sh_basis(3, dirs)[:, 1:], atol=1e-12)
+
+
+def test_views_rendered_together_are_the_views_rendered_one_by_one():
+    """A training step renders its views in one rasterization (render_views; gsplat's batched cameras on the
+    GPU, checked there by benchmarks/rasterizer_agreement.py): each view's colour (its own SH direction), identity
+    logits, depth and alpha are its render alone, and the info holds every view's 2D means."""
+    from engine.io.gaussians import init_from_points, new_classifier
+    from engine.render.rasterize import CameraTensors, render, render_views
+
+    gen = torch.Generator().manual_seed(0)
+    points = torch.rand(60, 3, generator=gen) * 0.6 - 0.3
+    points[:, 2] += 2.0
+    gaussians = init_from_points(points.numpy(), torch.rand(60, 3, generator=gen).numpy(), 1, 0.5, 0)
+    gaussians["identity"] = torch.randn(60, 16, generator=gen)
+    gaussians["shN"] = torch.randn(gaussians["shN"].shape, generator=gen) * 0.3  # colour that depends on the view
+    cameras = []
+    for shift in (-0.2, 0.0, 0.25):
+        view = VIEW.float().clone()
+        view[0, 3] = shift
+        cameras.append(CameraTensors(view, K.float(), -view[:3, :3].T @ view[:3, 3], 32, 32))
+    classifier = new_classifier(6)
+    together = render_views(gaussians, cameras, 1, classifier=classifier)
+    for camera, out in zip(cameras, together, strict=True):
+        alone = render(gaussians, camera, 1, classifier=classifier)
+        for name in ("rgb", "depth", "alpha", "logits"):
+            torch.testing.assert_close(getattr(out, name), getattr(alone, name))
+    assert together[0].info["means2d"].shape == (3, 60, 2) and together[0].info["n_cameras"] == 3
+    assert not torch.allclose(together[0].rgb, together[2].rgb)
