@@ -101,7 +101,7 @@ def sh_colors(gaussians: Gaussians, offsets: torch.Tensor, sh_degree: int, backe
 def rasterize(gaussians: Gaussians, features: torch.Tensor, camera: CameraTensors, backend: str,
               depth: bool = True) -> tuple[torch.Tensor, torch.Tensor, dict]:
     """Blend per-Gaussian `features` (N, D) into (H, W, D [+ 1 expected depth]) and alpha (H, W, 1) on
-    either back end: the one rasterization every render here goes through."""
+    either back end: rasterize_views of one camera, which every render here goes through."""
     colors, alphas, info = rasterize_views(gaussians, features[None], [camera], backend, depth)
     return colors[0], alphas[0], info
 
