@@ -116,7 +116,8 @@ def run_complete(config: CompleteConfig) -> dict:
         if colmap is not None:
             out.recolmap_json.write_text(json.dumps(colmap, indent=1))
     clock["scene"] = time.perf_counter() - start
-    settings = dataclasses.replace(original.config.with_steps(config.steps or original.config.steps),
+    base = original.config.one_view_a_step()  # a completion's steps are views: one a step
+    settings = dataclasses.replace(base.with_steps(config.steps or base.steps),
                                    scene=str(out.scene.root), out=str(out.run.root), seed=config.seed,
                                    device=config.device, resolution=1,  # the scene is written at the run's size
                                    colour_correction="off")  # the fill takes the photos' colours, as the scene

@@ -125,6 +125,17 @@ class TrainConfig:
                     if getattr(self, k) == getattr(defaults, k)}
         return dataclasses.replace(planned, **per_view).with_steps(steps, untouched)
 
+    def one_view_a_step(self) -> TrainConfig:
+        """This resolved config at one view a step, as many views seen: B views a step for S steps become B S
+        steps, with densification's interval and the SH bands' stretched by B (`_batched` undone). A completion
+        trains from its base run's config with its own steps and, for FT, no budget, which several views a
+        step refuse (DefaultStrategy's statistics are per view)."""
+        batch = self.views_per_step
+        if batch == 1:
+            return self
+        return dataclasses.replace(self, views_per_step=1, refine_every=self.refine_every * batch,
+                                   sh_degree_interval=self.sh_degree_interval * batch).with_steps(self.steps * batch)
+
     def with_steps(self, steps: int, schedule: tuple[str, ...] = SCHEDULE) -> TrainConfig:
         """This config run for `steps` steps, its schedule stretched or shrunk to match (a completion that
         retrains for fewer steps than its base run still stops densifying before its end)."""

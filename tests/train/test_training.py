@@ -399,6 +399,17 @@ def test_several_views_a_step_scale_the_schedule_as_gsplat_scales_a_batch():
             wrong.resolved()
 
 
+def test_a_run_of_several_views_a_step_completes_at_one_view_a_step():
+    """`complete` trains from the base run's config: at four views a step it is its one-view schedule again
+    (30k steps, refining from 500 to 15k every 100, a band every 1k), and FT's settings (no budget) resolve, which
+    they did not while the base's four views a step came with them."""
+    four, one = TrainConfig(views_per_step=4).resolved(), TrainConfig().resolved()
+    keys = ("steps", "refine_start", "refine_stop", "refine_every", "sh_degree_interval", "views_per_step")
+    assert [getattr(four.one_view_a_step(), k) for k in keys] == [getattr(one, k) for k in keys]
+    dataclasses.replace(four.one_view_a_step(), max_gaussians=0, steps=3_000).resolved()
+    assert one.one_view_a_step() == one
+
+
 def test_two_views_a_step_fit_the_scene_in_half_the_steps(living_scene: Path, tmp_path: Path):
     """At a budget (MCMC), two views a step for half the steps fit the training views as one view a step does:
     measured 24.6 dB against 24.3 at one (tiny livingroom, 3,000 Gaussians). Both draw 200 views from the shuffled
