@@ -142,8 +142,10 @@ def render(gaussians: Gaussians, camera: CameraTensors, sh_degree: int, backend:
 def render_views(gaussians: Gaussians, cameras: list[CameraTensors], sh_degree: int, backend: str | None = None,
                  classifier: torch.nn.Linear | None = None, depth: bool = True,
                  identity: bool = True) -> list[RenderOutput]:
-    """`render` for cameras of one size in one rasterization (rasterize_views); each output's info is the
-    batch's, (C, N, ...)."""
+    """`render` for several cameras, in one rasterization where they share a size (rasterize_views; each output's
+    info is the batch's, (C, N, ...)), else one a camera."""
+    if len({(c.width, c.height) for c in cameras}) > 1:
+        return [render_views(gaussians, [c], sh_degree, backend, classifier, depth, identity)[0] for c in cameras]
     means = gaussians["means"]
     backend = backend or default_backend(means.device)
     rgbs = [torch.clamp_min(sh_colors(gaussians, means.detach() - c.center, sh_degree, backend) + 0.5, 0.0)

@@ -23,7 +23,7 @@ from engine.base.errors import InputError
 from engine.capture.scene import Scene
 from engine.io.gaussians import PARAM_NAMES, Gaussians, concat, init_from_points, new_classifier
 from engine.metrics.image_metrics import psnr_from_mse
-from engine.render.rasterize import CameraTensors, render, render_views
+from engine.render.rasterize import CameraTensors, render_views
 from engine.train.adam_step import AdamState, adam_step
 from engine.train.config import TrainConfig
 from engine.train.identity_regularizer import IdentityRegularizer
@@ -242,13 +242,8 @@ class Trainer:
             views = [self._next_view() for _ in range(self.config.views_per_step)]
             targets = [self.images[view].float() / 255.0 for view in views]
         with part("render"):
-            gaussians, cameras = self._rendered(), [self.cameras[view] for view in views]
-            options = dict(sh_degree=self.sh_degree, classifier=self.classifier, depth=self.objective.needs_depth,
-                           identity=identity)
-            if len({(camera.width, camera.height) for camera in cameras}) == 1:
-                outs = render_views(gaussians, cameras, **options)
-            else:
-                outs = [render(gaussians, camera, **options) for camera in cameras]
+            outs = render_views(self._rendered(), [self.cameras[view] for view in views], self.sh_degree,
+                                classifier=self.classifier, depth=self.objective.needs_depth, identity=identity)
             if self.colours is not None:  # each view's photo's exposure and white balance
                 outs = [dataclasses.replace(out, rgb=self.colours(view, out.rgb))
                         for view, out in zip(views, outs, strict=True)]

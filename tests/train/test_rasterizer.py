@@ -161,3 +161,9 @@ def test_views_rendered_together_are_the_views_rendered_one_by_one():
             torch.testing.assert_close(getattr(out, name), getattr(alone, name))
     assert together[0].info["means2d"].shape == (3, 60, 2) and together[0].info["n_cameras"] == 3
     assert not torch.allclose(together[0].rgb, together[2].rgb)
+    small = CameraTensors(cameras[0].viewmat, K.float() / 2 + torch.diag(torch.tensor([0.0, 0.0, 0.5])),
+                          cameras[0].center, 16, 16)  # another size: each camera alone
+    mixed = render_views(gaussians, [cameras[0], small], 1, classifier=classifier)
+    assert mixed[1].rgb.shape == (16, 16, 3)
+    torch.testing.assert_close(mixed[1].rgb, render(gaussians, small, 1, classifier=classifier).rgb)
+    torch.testing.assert_close(mixed[0].rgb, together[0].rgb)
