@@ -12,7 +12,8 @@ standard deviations (per channel, 4 levels at least) of the ring just outside th
 looks like the surface around it (four test views of the H200 runs at 5ebcf5e / 8f8400b, Z = 1: livingroom 26.61,
 statue 25.08, tabletop 23.89, wall 31.63 against the fill's 22.29, 15.28, 24.26, 33.59).
 
-    PYTHONPATH=. python benchmarks/grow_sweep.py RUN... [--grow 0 1 3 6 13] [--inpainter telea] [--json OUT]
+    PYTHONPATH=. python benchmarks/grow_sweep.py RUN... [--grow 0 1 3 6 13] [--inpainter telea] [--holes DIR]
+        [--json OUT]
 """
 
 from __future__ import annotations
@@ -23,9 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
+from engine.edit.holes import iou
 from engine.edit.support_plane import plane_along_rays, removal_plane
 from engine.formats.cameras import Camera
-from engine.formats.layout import RunLayout
+from engine.formats.layout import HolesLayout, RunLayout
 from engine.inpaint.keep import like_ring
 from engine.inpaint.registry import create
 from engine.io.image_io import exr_name, read_depth, read_png
@@ -45,11 +47,13 @@ def on_plane(camera: Camera, depth: np.ndarray, plane: tuple[np.ndarray, float] 
     return near.reshape(depth.shape)
 
 
-def sweep(run: Path, grows: list[int], inpainter: str, plane_tol: float = 0.02, keep_z: tuple = (0.5, 1.0)
-          ) -> dict:
+def sweep(run: Path, grows: list[int], inpainter: str, plane_tol: float = 0.02, keep_z: tuple = (0.5, 1.0),
+          holes: Path | None = None) -> dict:
     """Per grow (and 'unfilled', and each grow keeping the on-plane render), the mean over test views with a true
-    hole of m-PSNR in it; the on-plane share and split scores (at the last grow)."""
+    hole of m-PSNR in it, and the grown masks' IoU with the true hole; the on-plane share and split scores (at the
+    last grow). `holes`: a holes folder other than RUN/holes (a variant of the stage), relative to the run."""
     scene, layout = load_run_scene(run), RunLayout(run)
+    holes_of = HolesLayout(run / holes) if holes else layout.holes
     fill, plane = create(inpainter), removal_plane(layout.removed)
     scores: dict[str, list[float]] = {"unfilled": []}
     for i in scene.test:
@@ -58,7 +62,7 @@ def sweep(run: Path, grows: list[int], inpainter: str, plane_tol: float = 0.02, 
             continue
         camera, truth = scene.cameras[i], scene.gt_images[i]
         removed = read_png(layout.removed.images / camera.name)
-        hole = read_png(layout.holes.mask(camera.name), kind="mask") > 0
+        hole = read_png(holes_of.mask(camera.name), kind="mask") > 0
         kept = on_plane(camera, read_depth(layout.removed.depth / exr_name(camera.name)), plane, plane_tol)
         scores["unfilled"].append(masked_psnr(removed, truth, truth_hole))
         scores.setdefault("on_plane", []).append(float((kept & truth_hole).sum() / truth_hole.sum()))
@@ -66,6 +70,7 @@ def sweep(run: Path, grows: list[int], inpainter: str, plane_tol: float = 0.02, 
             grown = dilate(hole, d)
             filled = fill.inpaint(removed, grown, "rgb")
             scores.setdefault(f"D={d}", []).append(masked_psnr(filled, truth, truth_hole))
+            scores.setdefault(f"iou D={d}", []).append(iou(grown, truth_hole))
             scores.setdefault(f"keep+D={d}", []).append(
                 masked_psnr(np.where(kept[..., None], removed, filled), truth, truth_hole))
             for z in keep_z:
@@ -87,11 +92,12 @@ def main() -> None:
     parser.add_argument("--plane-tol", type=float, default=0.02, help="on the plane: within this share of its depth")
     parser.add_argument("--keep-z", type=float, nargs="*", default=[0.5, 1.0],
                         help="colour<Z: keep pixels within Z standard deviations of the ring's colours")
+    parser.add_argument("--holes", type=Path, help="the holes folder to grow, relative to each run (default holes)")
     parser.add_argument("--json", type=Path)
     args = parser.parse_args()
     table = {}
     for run in args.runs:
-        table[str(run)] = sweep(run, args.grow, args.inpainter, args.plane_tol, tuple(args.keep_z))
+        table[str(run)] = sweep(run, args.grow, args.inpainter, args.plane_tol, tuple(args.keep_z), args.holes)
         print(run, table[str(run)], flush=True)
     if args.json:
         args.json.write_text(json.dumps({"inpainter": args.inpainter, "plane_tol": args.plane_tol, "runs": table},

@@ -30,8 +30,12 @@ rather than the completions learning it (`see_through`): rays the plane stopped 
 object's visual hull (the support never built where it stood, seen through), and pixels whose rendered surface
 under the object's footprint lies off the plane (a crater or bulge where only grazing views saw the support,
 under an overhang). The report scores the unseen part alone against the truth's holes beside the written masks.
-Optional: a margin around each view's object mask that hides too, and dilation
-of the result (LaMa wants larger masks; the paper dilates). Measured choices in docs/BENCHMARKS.md.
+Then the band around each hole that the render gets wrong, as the training photos that saw it show
+(engine.edit.border: a remnant's edge, the contact shade relit in part), joins it (`border`, a share of the
+width): the inpainters read their colours from the hole's border, so a wrong border is filled rather than copied
+inwards, and a right one stays as their context. Optional: a margin around each view's object mask that hides
+too, and dilation of the result (LaMa wants larger masks; the paper dilates). Measured choices in
+docs/BENCHMARKS.md.
 """
 
 from __future__ import annotations
@@ -46,6 +50,7 @@ import numpy as np
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
+from engine.edit.border import BORDER_LEVELS, BORDER_SHARE, OCCLUDER_SHARE, band_px, photo_ranges, wrong_border
 from engine.edit.removal import RemovalConfig
 from engine.edit.support_plane import (
     Footprint,
@@ -85,6 +90,8 @@ class HoleConfig:
     occluder_margin: float = 0.0  # band around each view's object region that hides too, x image diagonal
     see_through: bool = True  # also mark object pixels whose render sees through the support the base run never built
     off_support_tol: float = 0.02  # with see_through, also pixels whose support is this far off its plane, x depth
+    border: float = BORDER_SHARE  # also the band this wide (x image width) around a hole that the photos contradict
+    border_levels: float = BORDER_LEVELS  # 8-bit levels a band pixel may differ from the photos' colour there
 
 
 def _under_object(camera: Camera, stopped: np.ndarray, depth: np.ndarray, cameras: list[Camera],
@@ -144,6 +151,8 @@ def run_holes(config: HoleConfig) -> dict:
                                                                          scene.cameras[i].height)))
                  for i in scene.train]
     hull_masks = [dilate(regions[i], HULL_DILATE_PX) for i in scene.train]
+    photos = photo_ranges([scene.images[i] for i in scene.train])  # what was there: the border's judge
+    photo_occluders = [dilate(regions[i], band_px(scene.cameras[i].width, OCCLUDER_SHARE)) for i in scene.train]
     views, sheet = [], []
     with atomic_output_dir(out) as tmp_root:
         tmp = HolesLayout(tmp_root)
@@ -161,10 +170,17 @@ def run_holes(config: HoleConfig) -> dict:
                 see_through |= off_support(camera, region, rendered, plane, footprint, config.off_support_tol)
             unseen_hole = dilate(unseen, config.dilate)
             hole = unseen_hole | dilate(see_through, config.dilate) if config.see_through else unseen_hole
+            border = np.zeros_like(hole)
+            if config.border > 0 and hole.any():
+                rgb = read_png(removed.images / camera.name, size=camera.size)
+                border = wrong_border(camera, hole, rgb, rendered, train_cameras, photos, seen_surfaces,
+                                      photo_occluders, config.rel_tol, near, band_px(camera.width, config.border),
+                                      config.border_levels)
+                hole = hole | border
             write_png(tmp.mask(camera.name), hole.astype(np.uint8) * 255)
             write_png(tmp.unseen(camera.name), unseen_hole.astype(np.uint8) * 255)
             record = {"view": camera.name, "region_px": int(region.sum()), "hole_px": int(hole.sum()),
-                      "see_through_px": int((see_through & ~unseen).sum())}
+                      "see_through_px": int((see_through & ~unseen).sum()), "border_px": int(border.sum())}
             if i in scene.holes:
                 record["iou_vs_truth"] = iou(hole, scene.holes[i])
                 record["unseen_iou_vs_truth"] = iou(unseen_hole, scene.holes[i])

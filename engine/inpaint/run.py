@@ -3,10 +3,11 @@
 Reads RUN/removed/{images,depth} and RUN/holes, writes RUN/inpainted/<inpainter>/{images,depth}, config.json
 with timings and the prompt, and sheet_test.png / sheet_train.png (input, removed, hole, inpainted RGB and
 depth per view) atomically. A view with an empty hole is copied through untouched. The masks are grown first,
-by GROW_SHARE of the image's width unless --dilate gives the pixels: the removed render's pixels at a hole's
-border are the worst it has (the contact shading relit only in part, a support's edge seen through, blur), and
-an inpainter fills from them; grown, it fills from the surface beyond them and replaces them too (measured in
-docs/BENCHMARKS.md, "Hole masks"; the paper dilates as well). With source "input" (the direct baseline,
+by GROW_SHARE of the image's width unless --dilate gives the pixels: a render blurs a hole's edge into the pixel
+or two beside it, and an inpainter fills from them (the paper dilates as well). The border that is wrong further
+out (a remnant's edge, the contact shade relit in part) `holes` already took into the masks where the photos
+contradict it (engine.edit.border); growing every hole by 4% of the width, as before, also replaced the right
+border an inpainter reads (docs/BENCHMARKS.md, "Hole masks"). With source "input" (the direct baseline,
 RUN/inpainted/direct-<inpainter>) the object's whole region is filled in the input images instead, RGB
 only; an inpainter that takes no mask (nanobanana, the paper's Init-NanoBanana) always works that way.
 """
@@ -45,7 +46,7 @@ from engine.train.trained_run import load_run_scene
 
 SHEET_ROWS = 6
 PARENT_POLL_S = 1.0  # how often a worker process checks that its parent still runs
-GROW_SHARE = 0.04  # the masks grow by this share of the image width by default (6 px at 160 px, 13 at 320)
+GROW_SHARE = 0.01  # the masks grow by this share of the image width by default (2 px at 160 px, 3 at 320)
 
 
 def _saved_report(inpainted: InpaintedLayout) -> dict:
@@ -82,7 +83,7 @@ class InpaintConfig:
     inpainter: str = DEFAULT_INPAINTER  # a name from `engine plugins` (telea, fsr, exemplar, lama, ...)
     model: str = ""  # lama: .pt/.onnx (LAMA_MODEL); diffusion: diffusers folder (DIFFUSION_MODEL); nanobanana: name
     depth_range: str = "foreground"  # global | foreground (the paper's two depth representations)
-    dilate: int = -1  # px added to the hole masks before inpainting; -1: 4% of the image's width (GROW_SHARE)
+    dilate: int = -1  # px added to the hole masks before inpainting; -1: 1% of the image's width (GROW_SHARE)
     prompt: str = ""  # default: the paper's (diffusion: generic; nanobanana: per scene family)
     source: str = "removed"  # removed: the holes of the removed renders; input: the object in the input images
     removed: str = ""  # default RUN/removed

@@ -68,20 +68,23 @@ def test_holes_follow_the_scenes_true_holes(tiny_run: Path, removed, tmp_path: P
     while on the GPU runs the depth-guided holes reach 0.86 on statue (docs/BENCHMARKS.md)."""
     out, _ = removed
     unseen = run_holes(HoleConfig(run=str(tiny_run), removed=str(out), out=str(tmp_path / "holes"),
-                                  see_through=False))
+                                  see_through=False, border=0))
     assert unseen["views_scored"] == 8
     assert unseen["mean_iou_vs_truth"] > 0.15
     assert 0.05 < unseen["hole_to_region"] < 0.9  # smaller than the object, as 3DGIC's masks are
     assert unseen["mean_unseen_iou_vs_truth"] == unseen["mean_iou_vs_truth"]  # nothing else marked
     report = run_holes(HoleConfig(run=str(tiny_run), removed=str(out), out=str(tmp_path / "holes_st")))
-    views, more = unseen["views"], report["views"]  # the default also marks what the render sees through
-    assert [v["hole_px"] + v["see_through_px"] for v in views] == [v["hole_px"] for v in more]
+    views, more = unseen["views"], report["views"]  # the default also marks what the render sees through, and the
+    # band around the holes that the photos contradict
+    assert [v["hole_px"] + m["see_through_px"] + m["border_px"] for v, m in zip(views, more, strict=True)] == \
+        [v["hole_px"] for v in more]
+    assert sum(v["border_px"] for v in more) > 0
     assert report["mean_unseen_iou_vs_truth"] == unseen["mean_iou_vs_truth"]
     for v in more:  # the unseen part is written on its own: the see-through marks' run's equals the plain run's
         name = v["view"]
         written, part = (read_png(tmp_path / "holes_st" / p, "mask") > 0 for p in (name, f"unseen/{name}"))
         assert np.array_equal(part, read_png(tmp_path / "holes" / name, "mask") > 0)
-        assert not (part & ~written).any() and written.sum() - part.sum() == v["see_through_px"]
+        assert not (part & ~written).any() and written.sum() - part.sum() == v["see_through_px"] + v["border_px"]
 
 
 def test_unknown_object_lists_the_objects_present(tiny_run: Path, tmp_path: Path, capsys):

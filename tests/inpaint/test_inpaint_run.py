@@ -28,8 +28,8 @@ def stages(tiny_stages: dict[str, Path]) -> dict[str, Path]:
     return tiny_stages
 
 def test_fsr_fills_every_hole_grown_and_passes_views_without_one_through(stages):
-    """By default the masks grow by GROW_SHARE of the width (the hole's border pixels are the removed render's
-    worst: they are filled from the surface beyond them, not copied in); nothing past the grown hole changes."""
+    """By default the masks grow by GROW_SHARE of the width (a render blurs a hole's edge into the pixels beside
+    it: they are filled from the surface beyond them, not copied in); nothing past the grown hole changes."""
     out = stages["work"] / "fsr"
     report = run_inpaint(InpaintConfig(run=str(stages["run"]), inpainter="fsr", removed=str(stages["removed"]),
                                        holes=str(stages["holes"]), out=str(out)))
