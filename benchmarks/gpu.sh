@@ -149,7 +149,8 @@ case $name in
            python3 benchmarks/heldout_wall.py $d/start.txt $G/heldout $GPUS > $d/wall.json
            python3 benchmarks/merge_tables.py $d $G/heldout/*/results.json &&
              python3 -m engine chart --spec $d/speed_accuracy.json --out $d/speed_accuracy.png; cat $d/wall.json;;
-  start) tag=$(echo "$*" | tr -c 'A-Za-z0-9_' '_' | cut -c1-48)  # one log and pid per job, several at once
+  start) tag=$(echo "$*" | tr -c 'A-Za-z0-9_' '_' | cut -c1-40)_$(echo "$*" | md5sum | cut -c1-6)  # one log and pid a
+         # job, several at once: the arguments' hash tells apart jobs whose first 40 characters agree
          RESULTS=$G/out setsid nohup bash benchmarks/gpu.sh "$@" > $G/$tag.log 2>&1 < /dev/null &
          echo $! > $G/$tag.pid; sleep 5; tail -n 3 $G/$tag.log;;
   wait) end=$(( $(date +%s) + ${1:-540} ))

@@ -41,13 +41,15 @@ def warm_up() -> None:
 
 
 def run_one(scene: Path, budget: int, steps: int, results: Path, runs: Path | None, fused_ssim: bool = False,
-            identity_every: int = 0, views_per_step: int = 1) -> dict:
-    """One training of `steps` views' worth (at `views_per_step` views a step: steps / B steps), timed."""
+            identity_every: int = 0, views_per_step: int = 0) -> dict:
+    """One training of `steps` views' worth (at `views_per_step` views a step: steps / B steps; 0: as many as
+    `engine train` takes at the default's length and this budget, TrainConfig.auto_views), timed."""
     import torch
 
     from engine.train.config import TrainConfig
     from engine.train.run import train
 
+    views_per_step = views_per_step or TrainConfig(max_gaussians=budget).auto_views()
     with tempfile.TemporaryDirectory() as tmp:
         torch.cuda.reset_peak_memory_stats() if torch.cuda.is_available() else None
         start = time.perf_counter()
@@ -103,8 +105,9 @@ def main() -> int:
     parser.add_argument("--identity-every", type=int, default=0,
                         help="identities rendered every Nth step (0: the default's; a lead: the profile's identity "
                              "steps cost 2.4 ms against 1.5 for the others)")
-    parser.add_argument("--views-per-step", type=int, default=1,
-                        help="views a training step renders (a lead: gsplat's batch); the run takes STEPS / B steps")
+    parser.add_argument("--views-per-step", type=int, default=0,
+                        help="views a training step renders (gsplat's batch; 0: the engine's default, 4 at a budget); "
+                             "the run takes STEPS / B steps")
     return report_or_measure(parser, RESULTS, report, measure)
 
 

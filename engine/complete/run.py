@@ -76,9 +76,10 @@ class CompletionJob:
     device: torch.device
 
     def short_steps(self) -> int:
-        """--steps, else a tenth of the base run's (at least 100): the runs that start from the base run's
+        """--steps, else a tenth of the base run's (at least 100), counted in views as a completion's steps are
+        (one a step: a base run of 7,500 steps of 4 views gives 3,000): the runs that start from the base run's
         scene instead of from scratch (FT, and --warm's new scenes)."""
-        return self.config.steps or max(self.original.config.steps // 10, 100)
+        return self.config.steps or max(self.original.config.one_view_a_step().steps // 10, 100)
 
 
 def add_method_arguments(parser: argparse.ArgumentParser) -> None:

@@ -25,6 +25,10 @@ PRESETS: dict[str, dict] = {
 
 COLOUR_MODELS = ("off", "gain", "affine")  # engine.train.view_colours
 MAX_VIEWS_PER_STEP = 8  # Adam's beta1 at B views a step is 1 - B (1 - 0.9) (gsplat's trainer): 0.2 at 8
+# views a step where the run keeps the default's length and a budget: a step is bound by the host (launches, syncs;
+# 5.2 ms at 320x240 as at 640x480), and gsplat renders the four in one call: 37-40% less time at equal test PSNR
+# and identity mIoU on four families (docs/BENCHMARKS.md, "Decisions")
+VIEWS_PER_STEP = 4
 SCHEDULE = ("refine_start", "refine_stop", "reset_every")  # steps that scale with the run's length
 
 
@@ -36,7 +40,7 @@ class TrainConfig:
     scene: str = ""  # the scene folder (COLMAP model, images/, masks/ where there are any)
     out: str = ""  # a new run folder
     preset: str = "default"  # default | tiny (a few hundred steps at tiny sizes, for CPU tests)
-    steps: int = 30_000  # training steps; the densification schedule stretches with it
+    steps: int = 30_000  # training steps (left at 30k with a budget: 7,500 of 4 views); the schedule stretches
     seed: int = 0  # random seed of the initialisation and the view order
     device: str = "auto"  # auto | cuda | cpu
     max_gaussians: int = 300_000  # MCMC budget (gsplat's MCMCStrategy); 0: no budget (gsplat's DefaultStrategy)
@@ -55,7 +59,7 @@ class TrainConfig:
     lr_classifier: float = 5e-4  # learning rate of the per-pixel linear classifier
     ssim_weight: float = 0.2  # photometric loss: (1 - w) L1 + w (1 - SSIM)
     fused_ssim: bool = False  # the SSIM term by the fussim package's CUDA kernel (a measured lead; CUDA only)
-    views_per_step: int = 1  # training views each step renders, their losses averaged (gsplat's batch; MCMC only)
+    views_per_step: int = 0  # views a step, losses averaged (MCMC only); 0: 4 at the default steps and a budget, else 1
     colour_correction: str = "off"  # off | gain | affine: a correction per training view (engine.train.view_colours)
     lr_colours: float = 1e-3  # learning rate of the per-view colour corrections
     identity_weight: float = 1.0  # weight of the identity cross-entropy (divided by log of the class count)
@@ -100,6 +104,8 @@ class TrainConfig:
                              f"{', '.join(COLOUR_MODELS)}")
         defaults = TrainConfig()
         preset = PRESETS[self.preset]
+        if not self.views_per_step:
+            return dataclasses.replace(self, views_per_step=self.auto_views()).resolved()
         untouched = tuple(k for k in SCHEDULE if getattr(self, k) == getattr(defaults, k))
         changes = {k: v for k, v in preset.items() if getattr(self, k) == getattr(defaults, k)}
         planned = dataclasses.replace(self, **{**changes, "steps": preset.get("steps", defaults.steps)})
@@ -108,6 +114,16 @@ class TrainConfig:
             return planned.with_steps(steps, untouched)
         return self._batched(planned, steps if self.steps != defaults.steps else steps // self.views_per_step,
                              untouched)
+
+    def auto_views(self) -> int:
+        """The views a step `views_per_step` 0 stands for: VIEWS_PER_STEP (a quarter of the steps) where the run
+        keeps the default's 30k steps and a budget, as measured; else 1, so that `--steps N` stays N steps of one
+        view, as every run before, and DefaultStrategy (no budget, the tiny preset) its one view a step."""
+        preset = PRESETS.get(self.preset, {})
+        budget = self.max_gaussians if self.max_gaussians != TrainConfig.max_gaussians else preset.get(
+            "max_gaussians", self.max_gaussians)
+        default_length = self.steps == TrainConfig.steps and "steps" not in preset
+        return VIEWS_PER_STEP if default_length and budget > 0 else 1
 
     def _batched(self, planned: TrainConfig, steps: int, untouched: tuple[str, ...]) -> TrainConfig:
         """`planned` at `views_per_step` B views a step, as gsplat's trainer runs a batch (its steps_scaler 1/B):

@@ -141,6 +141,8 @@ class Trainer:
         Gaussian Grouping's loss; `views` restricts the training views that are drawn; `classifier` starts from
         a trained identity classifier instead of a random one. These are the completion methods' plug-ins
         (engine.complete.finetune, engine.complete.hole_region)."""
+        if config.views_per_step < 1:  # 0 is the CLI's "auto", which TrainConfig.resolved settles
+            raise ValueError("a Trainer takes a resolved TrainConfig (views_per_step 0 is unresolved)")
         self.config, self.scene, self.device = config, scene, device
         self.fixed = None if fixed is None else {k: fixed[k].float().to(device) for k in PARAM_NAMES}
         self.objective = objective or GroupingObjective()

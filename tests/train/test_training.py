@@ -399,11 +399,24 @@ def test_several_views_a_step_scale_the_schedule_as_gsplat_scales_a_batch():
             wrong.resolved()
 
 
+def test_the_default_run_takes_four_views_a_step_and_a_run_given_its_steps_or_no_budget_one():
+    """`views_per_step` 0 (the default): four views a step at a quarter of the steps where the run keeps the
+    default's 30k steps and a budget (measured on the GPU: docs/BENCHMARKS.md, "Decisions"); `--steps N` stays N
+    steps of one view, and so do the runs without a budget (DefaultStrategy) and the tiny preset."""
+    default = TrainConfig().resolved()
+    assert (default.views_per_step, default.steps) == (4, 7_500)
+    assert default == TrainConfig(views_per_step=4).resolved() and default.resolved() == default
+    for one in (TrainConfig(steps=10_000), TrainConfig(max_gaussians=0), TrainConfig(preset="tiny"),
+                TrainConfig(preset="tiny", max_gaussians=3_000)):
+        assert one.resolved().views_per_step == 1 and one.resolved().steps == one.resolved().one_view_a_step().steps
+    assert TrainConfig(steps=10_000).resolved().steps == 10_000
+
+
 def test_a_run_of_several_views_a_step_completes_at_one_view_a_step():
     """`complete` trains from the base run's config: at four views a step it is its one-view schedule again
     (30k steps, refining from 500 to 15k every 100, a band every 1k), and FT's settings (no budget) resolve, which
     they did not while the base's four views a step came with them."""
-    four, one = TrainConfig(views_per_step=4).resolved(), TrainConfig().resolved()
+    four, one = TrainConfig(views_per_step=4).resolved(), TrainConfig(views_per_step=1).resolved()
     keys = ("steps", "refine_start", "refine_stop", "refine_every", "sh_degree_interval", "views_per_step")
     assert [getattr(four.one_view_a_step(), k) for k in keys] == [getattr(one, k) for k in keys]
     dataclasses.replace(four.one_view_a_step(), max_gaussians=0, steps=3_000).resolved()
