@@ -33,39 +33,35 @@ NEAR = 1e-3
 
 
 def hole_bound(means: np.ndarray, scene: Scene, holes: dict[int, np.ndarray],
-               depths: dict[int, np.ndarray]) -> np.ndarray:
+               depths: dict[int, np.ndarray], widths: np.ndarray | None = None) -> np.ndarray:
     """Which `means` (N, 3) render into the holes (view -> bool mask) and nowhere else (see the module
-    docstring); `depths` are the removed scene's rendered depths of the same views."""
+    docstring); `depths` are the removed scene's rendered depths of the same views. With `widths` (N,: each
+    Gaussian's footprint, 3 sigma of its largest scale) also only those no wider than the hole their centre falls
+    in, in every view where it falls in one: the hole's equivalent diameter (of a disc of its area). Why: a scene
+    trained from scratch holds Gaussians far wider than any hole; grafted by their centres, one 107 px wide at
+    opacity 0.97 in a 96 px view hazed every view (the tiny CPU run once the holes took the band the photos
+    contradict: worst view outside the holes 22.1 dB, 32.8 without the new Gaussians over 40 px)."""
     inside_some = np.zeros(len(means), bool)
     outside_any = np.zeros(len(means), bool)
+    fits = np.ones(len(means), bool)
     for i, hole in holes.items():
-        u, v, z = project(scene.cameras[i], means)
+        camera = scene.cameras[i]
+        u, v, z = project(camera, means)
         in_hole, in_image = sample_nearest(hole, u, v)
         in_image &= z > NEAR
         surface, _ = sample_nearest(depths[i], u, v)
         shown = ~(np.isfinite(surface) & (surface > 0)) | (z <= surface * HIDDEN_SLACK)
         inside_some |= in_image & in_hole
         outside_any |= in_image & ~in_hole & shown
-    return inside_some & ~outside_any
+        if widths is not None:
+            across = 2.0 * np.sqrt(hole.sum() / np.pi)
+            fits &= ~(in_image & in_hole) | (2.0 * widths * camera.fx / np.maximum(z, NEAR) <= across)
+    return inside_some & ~outside_any & fits
 
 
-def fits_hole(gaussians: Gaussians, scene: Scene, holes: dict[int, np.ndarray]) -> np.ndarray:
-    """(N,) bool: each Gaussian's footprint (3 sigma of its largest scale, projected) at most as wide as the hole
-    its centre falls in, in every view where it falls in one: the hole's equivalent diameter (of a disc of its
-    area). Why: a scene trained from scratch holds Gaussians far wider than any hole; grafted by their centres, one
-    107 px wide at opacity 0.97 in a 96 px view hazed every view (the tiny CPU run once the holes took the band
-    the photos contradict: worst view outside the holes 22.1 dB, 32.8 without the new Gaussians over 40 px)."""
-    means = gaussians["means"].numpy()
-    width = 3.0 * torch.exp(gaussians["scales"]).max(dim=-1).values.numpy()
-    fits = np.ones(len(means), bool)
-    for i, hole in holes.items():
-        camera = scene.cameras[i]
-        u, v, z = project(camera, means)
-        in_hole, in_image = sample_nearest(hole, u, v)
-        inside = in_image & in_hole & (z > NEAR)
-        across = 2.0 * np.sqrt(hole.sum() / np.pi)
-        fits &= ~inside | (2.0 * width * camera.fx / np.maximum(z, NEAR) <= across)
-    return fits
+def footprint_widths(gaussians: Gaussians) -> np.ndarray:
+    """(N,) each Gaussian's footprint in world units: 3 sigma of its largest scale (hole_bound's `widths`)."""
+    return 3.0 * torch.exp(gaussians["scales"]).max(dim=-1).values.numpy()
 
 
 def split_at_hole(gaussians: Gaussians, movable: np.ndarray) -> tuple[Gaussians, Gaussians]:

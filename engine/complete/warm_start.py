@@ -18,7 +18,7 @@ import numpy as np
 
 from engine.base.errors import InputError
 from engine.complete.finetune import hole_gaussians, nearest_identity, reference_views
-from engine.complete.hole_region import check_movable, fits_hole, hole_bound, split_at_hole
+from engine.complete.hole_region import check_movable, footprint_widths, hole_bound, split_at_hole
 from engine.formats.layout import InpaintedLayout, RemovedLayout
 from engine.inpaint.run import inpainted_dilation
 from engine.io.gaussians import Gaussians, concat
@@ -72,8 +72,8 @@ def graft(job) -> dict:
     41.1, against 16.7 and 23.7 for the whole new scene), while the hole is what the new scene learned from the
     inpainted views. Without the ring the hole's edge lost its new Gaussians and the fill scored below the unfilled
     hole in the training views; whole Gaussians instead of centres left too few new ones inside the hole, so only
-    those wider than the hole stay out (fits_hole). Grafting twice gives the same scene (the removed part kept is
-    never hole-bound)."""
+    those wider than the hole stay out (hole_bound's widths). Grafting twice gives the same scene (the removed part
+    kept is never hole-bound)."""
     from engine.io.ply_io import save_classifier, save_ply
 
     scene, layout = job.original.scene, job.out.run
@@ -81,7 +81,7 @@ def graft(job) -> dict:
     removed, trained = load_ply(job.removed.point_cloud), load_ply(layout.point_cloud)
     fixed = split_at_hole(removed, hole_bound(removed["means"].numpy(), scene, holes, surfaces))[1]
     grown = {i: dilate(hole, GRAFT_RING_PX) for i, hole in holes.items()}  # the new part reaches the hole's edge
-    bound = hole_bound(trained["means"].numpy(), scene, grown, surfaces) & fits_hole(trained, scene, grown)
+    bound = hole_bound(trained["means"].numpy(), scene, grown, surfaces, footprint_widths(trained))
     inside = split_at_hole(trained, bound)[0]
     if len(inside["means"]):
         inside["identity"] = nearest_identity(inside["means"], removed)

@@ -27,8 +27,9 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from engine.formats.cameras import Camera, backproject, pixel_grid, project, sample_nearest
+from engine.formats.cameras import Camera, backproject, pixel_grid, sample_nearest
 from engine.io.masks import dilate
+from engine.io.visibility import visible_from
 
 BORDER_SHARE = 0.04  # the band's width as a share of the image width (the old uniform growth's: 13 px at 320)
 BORDER_LEVELS = 24.0  # 8-bit levels a band pixel's colour may differ from the photos' before it is wrong
@@ -59,10 +60,7 @@ def contradicted(points: np.ndarray, colours: np.ndarray, cameras: list[Camera],
     against = np.zeros(len(points), np.int32)
     colours = colours.astype(np.float32)
     for camera, (low, high), depth, occluder in zip(cameras, ranges, depths, occluders, strict=True):
-        u, v, z = project(camera, points)
-        surface, inside = sample_nearest(depth, u, v)
-        tol = rel_tol if near is None else rel_tol * np.maximum(1.0, surface / near)
-        visible = inside & (z > 0) & (z <= surface * (1 + tol)) & ~sample_nearest(occluder, u, v)[0]
+        visible, u, v = visible_from(camera, depth, points, rel_tol, occluder, near)
         below = sample_nearest(low, u, v)[0].astype(np.float32) - levels
         above = sample_nearest(high, u, v)[0].astype(np.float32) + levels
         outside = ((colours < below) | (colours > above)).any(axis=1)
@@ -73,8 +71,7 @@ def contradicted(points: np.ndarray, colours: np.ndarray, cameras: list[Camera],
 
 def wrong_border(camera: Camera, hole: np.ndarray, rgb: np.ndarray, depth: np.ndarray, cameras: list[Camera],
                  ranges: list[tuple[np.ndarray, np.ndarray]], depths: list[np.ndarray], occluders: list[np.ndarray],
-                 rel_tol: float,
-                 near: float | None, width_px: int, levels: float = BORDER_LEVELS) -> np.ndarray:
+                 rel_tol: float, near: float | None, width_px: int, levels: float = BORDER_LEVELS) -> np.ndarray:
     """(H, W) bool: the pixels within `width_px` of `hole` whose render (`rgb`, `depth`: the removed scene's in
     this view) the training photos contradict (`ranges`: photo_ranges of them; the module's docstring), joined to
     the hole."""

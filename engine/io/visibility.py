@@ -61,14 +61,24 @@ def seen_by_any(points: np.ndarray, cameras: list[Camera], depths: list[np.ndarr
         todo = ~seen
         if not todo.any():
             break
-        u, v, z = project(camera, points[todo])
-        surface, inside = sample_nearest(depth, u, v)
-        tol = rel_tol if near is None else rel_tol * np.maximum(1.0, surface / near)
-        visible = inside & (z > 0) & (z <= surface * (1 + tol))
-        if occluders is not None:
-            visible &= ~sample_nearest(occluders[k], u, v)[0]
+        visible, _, _ = visible_from(camera, depth, points[todo], rel_tol,
+                                     None if occluders is None else occluders[k], near)
         seen[np.flatnonzero(todo)[visible]] = True
     return seen
+
+
+def visible_from(camera: Camera, depth: np.ndarray, points: np.ndarray, rel_tol: float = DEFAULT_REL_TOL,
+                 occluder: np.ndarray | None = None, near: float | None = None
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(N,) bool: whether one camera (z-depth `depth`, `occluder` mask) sees each of `points` (N, 3), as
+    seen_by_any tests it; and the points' pixel coordinates u, v there."""
+    u, v, z = project(camera, points)
+    surface, inside = sample_nearest(depth, u, v)
+    tol = rel_tol if near is None else rel_tol * np.maximum(1.0, surface / near)
+    visible = inside & (z > 0) & (z <= surface * (1 + tol))
+    if occluder is not None:
+        visible &= ~sample_nearest(occluder, u, v)[0]
+    return visible, u, v
 
 
 def inside_visual_hull(means: np.ndarray, cameras: list[Camera], masks: list[np.ndarray], min_views: int = 3,
