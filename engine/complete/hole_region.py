@@ -6,7 +6,8 @@ inpainted views are only new inside the hole. So a completion trains the Gaussia
 
 - a Gaussian of the removed scene is *movable* when its centre falls inside the (dilated) hole of at least one
   view, and in every view where it lies in front of the camera, inside the image and not hidden behind the
-  removed scene's surface there, inside that view's hole. Everything else is the Trainer's `fixed` set:
+  removed scene's surface there, inside that view's hole (hole_bound), and its visible ellipse lies in the holes
+  too (changeable: a wide one centred in the hole renders past it). Everything else is the Trainer's `fixed` set:
   rendered every step, never changed (engine.train.trainer), so outside the holes every view renders as the
   removed scene does;
 - new Gaussians seed the hole's surface (engine.complete.finetune.hole_gaussians: the inpainted depth of the
@@ -30,38 +31,92 @@ from engine.io.gaussians import PARAM_NAMES, Gaussians
 
 HIDDEN_SLACK = 1.05  # a Gaussian this much deeper than the view's rendered surface is hidden there
 NEAR = 1e-3
+FIT_ALPHA = 0.1  # fit_to_holes: a Gaussian's visible ellipse is where its alpha reaches this
+FIT_SHARE = 0.5  # at least this share of it in the hole (one centred on the hole's edge has half)
+FIT_LADDER = tuple(0.85 ** k for k in range(13))  # the scale factors tried, 1 down to 0.14
+ELLIPSE_POINTS = 16
 
 
 def hole_bound(means: np.ndarray, scene: Scene, holes: dict[int, np.ndarray],
-               depths: dict[int, np.ndarray], widths: np.ndarray | None = None) -> np.ndarray:
+               depths: dict[int, np.ndarray]) -> np.ndarray:
     """Which `means` (N, 3) render into the holes (view -> bool mask) and nowhere else (see the module
-    docstring); `depths` are the removed scene's rendered depths of the same views. With `widths` (N,: each
-    Gaussian's footprint, 3 sigma of its largest scale) also only those no wider than the hole their centre falls
-    in, in every view where it falls in one: the hole's equivalent diameter (of a disc of its area). Why: a scene
-    trained from scratch holds Gaussians far wider than any hole; grafted by their centres, one 107 px wide at
-    opacity 0.97 in a 96 px view hazed every view (the tiny CPU run once the holes took the band the photos
-    contradict: worst view outside the holes 22.1 dB, 32.8 without the new Gaussians over 40 px)."""
+    docstring); `depths` are the removed scene's rendered depths of the same views."""
     inside_some = np.zeros(len(means), bool)
     outside_any = np.zeros(len(means), bool)
-    fits = np.ones(len(means), bool)
     for i, hole in holes.items():
-        camera = scene.cameras[i]
-        u, v, z = project(camera, means)
+        u, v, z = project(scene.cameras[i], means)
         in_hole, in_image = sample_nearest(hole, u, v)
         in_image &= z > NEAR
         surface, _ = sample_nearest(depths[i], u, v)
         shown = ~(np.isfinite(surface) & (surface > 0)) | (z <= surface * HIDDEN_SLACK)
         inside_some |= in_image & in_hole
         outside_any |= in_image & ~in_hole & shown
-        if widths is not None:
-            across = 2.0 * np.sqrt(hole.sum() / np.pi)
-            fits &= ~(in_image & in_hole) | (2.0 * widths * camera.fx / np.maximum(z, NEAR) <= across)
-    return inside_some & ~outside_any & fits
+    return inside_some & ~outside_any
 
 
-def footprint_widths(gaussians: Gaussians) -> np.ndarray:
-    """(N,) each Gaussian's footprint in world units: 3 sigma of its largest scale (hole_bound's `widths`)."""
-    return 3.0 * torch.exp(gaussians["scales"]).max(dim=-1).values.numpy()
+def changeable(gaussians: Gaussians, scene: Scene, holes: dict[int, np.ndarray],
+               depths: dict[int, np.ndarray]) -> np.ndarray:
+    """Which of the removed scene's Gaussians a completion may change or replace: those hole_bound by their centre
+    whose visible ellipse also fits the holes at their own size (fit_to_holes). Why not the centre alone: a wide
+    one centred in the hole paints past it as well, and changed or dropped it changes the views around the hole
+    (tiny CPU runs of training seeds 0-4, Init from scratch grafted: worst view outside the holes against the
+    removed renders 38.2-43.4 dB with the wide ones kept; dropped, 27.5 on seed 2)."""
+    bound = hole_bound(gaussians["means"].numpy(), scene, holes, depths)
+    rows = np.flatnonzero(bound)
+    _, fits = fit_to_holes({k: v[rows] for k, v in gaussians.items()}, scene, holes, ladder=(1.0,))
+    bound[rows[~fits]] = False
+    return bound
+
+
+def fit_to_holes(gaussians: Gaussians, scene: Scene, holes: dict[int, np.ndarray],
+                 ladder: tuple[float, ...] = FIT_LADDER) -> tuple[Gaussians, np.ndarray]:
+    """`gaussians` shrunk to render into the holes (view -> bool mask), and which of them could be: each keeps
+    the largest of the scale factors in `ladder` at which, in every view where its centre falls in a hole, at least
+    FIT_SHARE of its visible ellipse (where its alpha reaches FIT_ALPHA) lies in that hole (past the image's edge
+    counts as outside: a Gaussian wider than the view has all of its ellipse there), and in every view whose frame
+    its centre lies past, what of that ellipse reaches into the image lies in the hole; those that fit at none are
+    False. Why shrink rather than drop: a scene trained from scratch on a tiny or blurred view paints a hole with
+    a few Gaussians wider than it (one 107 px wide at opacity 0.97 in a 96 px view hazed every view when grafted
+    whole), and dropping them drops the fill with them (tiny CPU runs of training seeds 0-4, Init from scratch: the
+    painted fill carried into the part no view saw at 0.55 / 0.49 / 0.54 / 0.48 / 0.77 of the unfilled hole's
+    error; 0.55 / 1.00 / 1.04 on seeds 0-2 with the wide ones dropped)."""
+    scales = torch.exp(gaussians["scales"].float())
+    opacity = torch.sigmoid(gaussians["opacities"].float()).reshape(-1)
+    reach = torch.sqrt(2.0 * torch.log((opacity / FIT_ALPHA).clamp_min(1.0)))  # Mahalanobis radius at FIT_ALPHA
+    factor = np.zeros(len(scales))
+    for shrink in sorted(ladder):  # the largest factor that fits is kept
+        fits = np.ones(len(scales), bool)
+        for i, hole in holes.items():
+            fits &= _fits_in_view({**gaussians, "scales": scales * shrink, "opacities": opacity}, reach,
+                                  scene.cameras[i], hole)
+        factor = np.where(fits, shrink, factor)
+    shrunk = dict(gaussians)
+    shrunk["scales"] = gaussians["scales"] + torch.log(torch.as_tensor(np.maximum(factor, 1e-6)).float())[:, None]
+    return shrunk, factor > 0
+
+
+def _fits_in_view(activated: Gaussians, reach: torch.Tensor, camera, hole: np.ndarray) -> np.ndarray:
+    """fit_to_holes' test in one view, on activated scales and opacities: the ellipse at Mahalanobis radius `reach`
+    (ELLIPSE_POINTS on it) against the hole, as the rasterizer projects it."""
+    from engine.render.rasterize import CameraTensors
+    from engine.render.rasterize_reference import project as project_gaussians
+
+    view = CameraTensors.from_camera(camera, "cpu")
+    z, centre, conics, _ = project_gaussians(activated["means"].float(), activated["quats"].float(),
+                                             activated["scales"], activated["opacities"], view.viewmat, view.K,
+                                             camera.width, camera.height, NEAR, 1e10, 0.3)
+    a, b, c = conics.unbind(-1)
+    covariance = torch.stack([c, -b, -b, a], -1).reshape(-1, 2, 2) / (a * c - b * b).clamp_min(1e-12)[:, None, None]
+    axes = torch.linalg.cholesky(covariance + 1e-6 * torch.eye(2))
+    angles = torch.linspace(0.0, 2.0 * np.pi, ELLIPSE_POINTS + 1)[:-1]
+    circle = torch.stack([angles.cos(), angles.sin()], -1)
+    rim = centre[:, None, :] + reach[:, None, None] * (circle[None] @ axes.transpose(1, 2))
+    in_hole, in_image = sample_nearest(hole, rim[..., 0].numpy(), rim[..., 1].numpy())
+    in_hole &= in_image
+    centre_in, centre_seen = sample_nearest(hole, centre[:, 0].numpy(), centre[:, 1].numpy())
+    ahead = z.numpy() > NEAR
+    fits = ~(centre_in & centre_seen & ahead) | (in_hole.mean(axis=1) >= FIT_SHARE)
+    return fits & (~(~centre_seen & ahead) | (in_hole | ~in_image).all(axis=1))  # reaching in from past the frame
 
 
 def split_at_hole(gaussians: Gaussians, movable: np.ndarray) -> tuple[Gaussians, Gaussians]:

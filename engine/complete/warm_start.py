@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import json
 
 import numpy as np
 
 from engine.base.errors import InputError
 from engine.complete.finetune import hole_gaussians, nearest_identity, reference_views
-from engine.complete.hole_region import check_movable, footprint_widths, hole_bound, split_at_hole
+from engine.complete.hole_region import changeable, check_movable, fit_to_holes, hole_bound, split_at_hole
 from engine.formats.layout import InpaintedLayout, RemovedLayout
 from engine.inpaint.run import inpainted_dilation
 from engine.io.gaussians import Gaussians, concat
@@ -39,7 +40,7 @@ def warm_setup(job, settings: TrainConfig) -> tuple[TrainConfig, dict]:
     scene = job.original.scene
     holes, surfaces = _hole_views(job)
     removed = load_ply(job.removed.point_cloud)
-    movable, fixed = split_at_hole(removed, hole_bound(removed["means"].numpy(), scene, holes, surfaces))
+    movable, fixed = split_at_hole(removed, changeable(removed, scene, holes, surfaces))
     seeds = _seeds(job, holes, surfaces, removed, settings.sh_degree)
     start = concat(movable, seeds)
     check_movable(start, job.holes.root)
@@ -71,26 +72,31 @@ def graft(job) -> dict:
     outside the hole every view renders nearly as the removed scene does (a tiny run: worst view 35.9 dB, mean
     41.1, against 16.7 and 23.7 for the whole new scene), while the hole is what the new scene learned from the
     inpainted views. Without the ring the hole's edge lost its new Gaussians and the fill scored below the unfilled
-    hole in the training views; whole Gaussians instead of centres left too few new ones inside the hole, so only
-    those wider than the hole stay out (hole_bound's widths). Grafting twice gives the same scene (the removed part
-    kept is never hole-bound)."""
+    hole in the training views; whole Gaussians instead of centres left too few new ones inside the hole, so those
+    wider than the hole are shrunk to it instead (hole_region.fit_to_holes). The removed scene's Gaussians kept are
+    all but those the completion may change (hole_region.changeable: a wide one centred in the hole stays, as it
+    renders past it too). A resumed run whose scene holds the graft (COMPLETE/graft.json) is not grafted again."""
     from engine.io.ply_io import save_classifier, save_ply
 
     scene, layout = job.original.scene, job.out.run
+    if job.out.graft_json.is_file():  # a resumed run whose scene holds the graft already
+        return json.loads(job.out.graft_json.read_text())
     holes, surfaces = _hole_views(job)
     removed, trained = load_ply(job.removed.point_cloud), load_ply(layout.point_cloud)
-    fixed = split_at_hole(removed, hole_bound(removed["means"].numpy(), scene, holes, surfaces))[1]
+    fixed = split_at_hole(removed, changeable(removed, scene, holes, surfaces))[1]
     grown = {i: dilate(hole, GRAFT_RING_PX) for i, hole in holes.items()}  # the new part reaches the hole's edge
-    bound = hole_bound(trained["means"].numpy(), scene, grown, surfaces, footprint_widths(trained))
-    inside = split_at_hole(trained, bound)[0]
+    bound = split_at_hole(trained, hole_bound(trained["means"].numpy(), scene, grown, surfaces))[0]
+    inside = split_at_hole(*fit_to_holes(bound, scene, grown))[0]
     if len(inside["means"]):
         inside["identity"] = nearest_identity(inside["means"], removed)
     partial = layout.point_cloud.with_name(".grafted.ply")
     save_ply(partial, concat(fixed, inside))
     partial.replace(layout.point_cloud)
     save_classifier(layout.classifier, job.original.classifier)
-    return {"new_in_hole": len(inside["means"]), "new_elsewhere": len(trained["means"]) - len(inside["means"]),
-            "removed_kept": len(fixed["means"]), "gaussians": len(fixed["means"]) + len(inside["means"])}
+    report = {"new_in_hole": len(inside["means"]), "new_elsewhere": len(trained["means"]) - len(inside["means"]),
+              "removed_kept": len(fixed["means"]), "gaussians": len(fixed["means"]) + len(inside["means"])}
+    job.out.graft_json.write_text(json.dumps(report, indent=1))
+    return report
 
 
 def _seeds(job, holes: dict[int, np.ndarray], surfaces: dict[int, np.ndarray], removed: Gaussians,

@@ -109,10 +109,12 @@ def test_init_completion_trains_on_the_inpainted_views_and_carries_the_fill_into
         assert (scene.images[i][far] == original.images[i][far]).all()
     after, before = errors_toward(out / "run", with_hole(scene, unseen), unseen, inpainted / "images",
                                   stages["removed"] / "images")
-    # measured 42.3 against 85.9 (d2e49fe's parent, the holes then nearly their unseen part): the views' holes
-    # disagree (IoU 0.2-0.4), so no 3D scene paints all of them; a scene that never saw the painted fill stays at
-    # the unfilled render's error
-    assert after < 0.75 * before
+    # a scene that never saw the painted fill stays at the unfilled render's error (a ratio of 1.0); measured on tiny
+    # runs of training seeds 0-4 (CI's machine makes a run of its own): 0.55 / 0.49 / 0.54 / 0.48 / 0.77, the highest
+    # where floaters left unseen patches on the wall that each view holds apart; with the graft dropping the new
+    # Gaussians wider than their hole instead of shrinking them (hole_region.fit_to_holes): 0.55 / 1.00 / 1.04 on
+    # seeds 0-2, and 1.07 on CI
+    assert after < 0.85 * before
 
 
 def test_ref_carries_one_views_fill_into_the_others_holes_and_trains_on_it(stages, tmp_path):
@@ -380,7 +382,9 @@ def test_a_scratch_init_keeps_the_removed_scene_outside_the_hole_and_its_own_sce
                        ~dilate(grown[camera.name], 2))
             for camera, picture in zip(scene.cameras, render_pictures(trained.gaussians, scene.cameras,
                                                                       trained.sh_degree, "cpu"), strict=True))
-    # measured, worst view: grafted 35.9 dB (mean 41.1), whole 16.7
+    # measured on tiny runs of training seeds 0-4, worst view (mean): grafted 38.2 (47.4) / 38.6 (48.9) / 43.1 (48.2) /
+    # 43.4 (47.8) / 42.6 (48.5); whole 16.6-20.0. With the removed scene's wide Gaussians centred in the hole dropped
+    # (hole_region.changeable keeps them): 35.9 (41.1) on seed 0, 27.5 on seed 2
     assert worst[True] > 30 > worst[False], worst
 
 

@@ -39,3 +39,36 @@ def test_only_what_every_view_shows_inside_its_hole_may_change():
     assert hole_bound(points, scene_of(cams), holes, far).tolist() == [True, False, False]
     hidden = {0: np.full((H, W), 2.0), 1: far[1]}  # the left camera sees a surface at depth 2 in front of the wall
     assert hole_bound(points, scene_of(cams), holes, hidden).tolist() == [True, True, False]
+
+
+def test_a_gaussian_wider_than_its_hole_is_shrunk_into_it_and_one_that_fits_is_left_alone():
+    """A scratch scene paints a small hole with a few Gaussians wider than it; grafted whole they haze the views
+    around it, dropped they take the fill with them. fit_to_holes shrinks the wide one until it renders into the
+    hole (at most half of where its alpha reaches 0.1 outside it: under 0.1 two pixels past the hole's edge, near
+    1 at its centre; unshrunk 0.21 there, and dropped with no shrinking tried) and leaves a small one as it was."""
+    import torch
+
+    from engine.complete.hole_region import fit_to_holes
+    from engine.render.rasterize import CameraTensors
+    from engine.render.rasterize_reference import rasterize_reference
+
+    cams = [camera("left.png", -0.2), camera("right.png", 0.2)]
+    hole = np.zeros((H, W), bool)
+    hole[8:22, 13:27] = True  # 14 px square: +-7 px, 0.93 world units at the wall (7.5 px a unit)
+    sigmas = torch.tensor([0.1, 0.6])  # 0.75 px and 4.5 px: visible (alpha 0.1) to 1.6 and 9.6 px
+    gaussians = {"means": torch.zeros(2, 3), "quats": torch.tensor([[1.0, 0, 0, 0]] * 2),
+                 "scales": torch.log(sigmas)[:, None].repeat(1, 3), "opacities": torch.full((2, 1), 4.6)}
+    shrunk, fits = fit_to_holes(gaussians, scene_of(cams), {0: hole, 1: hole})
+    assert fits.tolist() == [True, True]
+    assert torch.equal(shrunk["scales"][0], gaussians["scales"][0])
+    factor = float(torch.exp(shrunk["scales"][1, 0] - gaussians["scales"][1, 0]))
+    assert 0.3 < factor < 1.0
+    for cam in cams:
+        view = CameraTensors.from_camera(cam, "cpu")
+        _, alpha, _ = rasterize_reference(shrunk["means"][1:], shrunk["quats"][1:], torch.exp(shrunk["scales"][1:]),
+                                          torch.sigmoid(shrunk["opacities"][1:, 0]), torch.ones(1, 3), view.viewmat,
+                                          view.K, W, H)
+        alpha = alpha[..., 0].numpy()
+        grown = np.zeros_like(hole)
+        grown[6:24, 11:29] = True
+        assert alpha[~grown].max() < 0.1 and alpha[hole].max() > 0.9
