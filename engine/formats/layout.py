@@ -209,8 +209,6 @@ class CompleteLayout(_Folder):
     scores_json = _at("scores.json", "Written last: a folder with scores.json is a finished completion.")
     recolmap_json = _at("recolmap.json",
                "--recolmap: how many views COLMAP registered and their pose error (kept for a resumed run).")
-    graft_json = _at("graft.json", "--no-warm: the graft's counts, written once the run's scene holds the graft "
-                     "(a resumed run does not graft it twice).")
 
 
 def run_of(ply: Path) -> RunLayout | None:
