@@ -72,3 +72,21 @@ def test_a_gaussian_wider_than_its_hole_is_shrunk_into_it_and_one_that_fits_is_l
         grown = np.zeros_like(hole)
         grown[6:24, 11:29] = True
         assert alpha[~grown].max() < 0.1 and alpha[hole].max() > 0.9
+
+
+def test_a_removed_gaussian_centred_in_the_hole_but_wider_than_it_stays_fixed():
+    """What a completion may change (changeable): centred in the hole and fitting it at its own size. A wide one
+    centred there renders past the hole too; changed or dropped, the views around the hole change with it."""
+    import torch
+
+    from engine.complete.hole_region import changeable
+
+    cams = [camera("left.png", -0.2), camera("right.png", 0.2)]
+    hole = np.zeros((H, W), bool)
+    hole[8:22, 13:27] = True
+    far = {0: np.full((H, W), 4.0), 1: np.full((H, W), 4.0)}
+    gaussians = {"means": torch.zeros(3, 3), "quats": torch.tensor([[1.0, 0, 0, 0]] * 3),
+                 "scales": torch.log(torch.tensor([0.1, 0.6, 0.1]))[:, None].repeat(1, 3),
+                 "opacities": torch.full((3, 1), 4.6)}
+    gaussians["means"][2, 0] = 2.0  # in no hole
+    assert changeable(gaussians, scene_of(cams), {0: hole, 1: hole}, far).tolist() == [True, False, False]
