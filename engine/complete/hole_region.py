@@ -87,10 +87,10 @@ def fit_to_holes(gaussians: Gaussians, scene: Scene, holes: dict[int, np.ndarray
     reach = torch.sqrt(2.0 * torch.log((opacity / FIT_ALPHA).clamp_min(1.0)))  # Mahalanobis radius at FIT_ALPHA
     factor = np.zeros(len(scales))
     for shrink in sorted(ladder):  # the largest factor that fits is kept
+        activated = {**gaussians, "scales": scales * shrink, "opacities": opacity}
         fits = np.ones(len(scales), bool)
         for i, hole in holes.items():
-            fits &= _fits_in_view({**gaussians, "scales": scales * shrink, "opacities": opacity}, reach,
-                                  scene.cameras[i], hole)
+            fits &= _fits_in_view(activated, reach, scene.cameras[i], hole)
         factor = np.where(fits, shrink, factor)
     shrunk = dict(gaussians)
     shrunk["scales"] = gaussians["scales"] + torch.log(torch.as_tensor(np.maximum(factor, 1e-6)).float())[:, None]
