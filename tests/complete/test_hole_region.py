@@ -41,6 +41,22 @@ def test_only_what_every_view_shows_inside_its_hole_may_change():
     assert hole_bound(points, scene_of(cams), holes, hidden).tolist() == [True, True, False]
 
 
+def square_hole() -> np.ndarray:
+    """A 14 px square around the image centre: +-7 px, 0.93 world units at the wall (7.5 px a unit)."""
+    hole = np.zeros((H, W), bool)
+    hole[8:22, 13:27] = True
+    return hole
+
+
+def round_gaussians(sigmas: list[float]) -> dict:
+    """Round, nearly opaque (0.99) Gaussians of the given sigmas (world units) at the origin, on the wall."""
+    import torch
+
+    n = len(sigmas)
+    return {"means": torch.zeros(n, 3), "quats": torch.tensor([[1.0, 0, 0, 0]] * n),
+            "scales": torch.log(torch.tensor(sigmas))[:, None].repeat(1, 3), "opacities": torch.full((n, 1), 4.6)}
+
+
 def test_a_gaussian_wider_than_its_hole_is_shrunk_into_it_and_one_that_fits_is_left_alone():
     """A scratch scene paints a small hole with a few Gaussians wider than it; grafted whole they haze the views
     around it, dropped they take the fill with them. fit_to_holes shrinks the wide one until it renders into the
@@ -53,11 +69,8 @@ def test_a_gaussian_wider_than_its_hole_is_shrunk_into_it_and_one_that_fits_is_l
     from engine.render.rasterize_reference import rasterize_reference
 
     cams = [camera("left.png", -0.2), camera("right.png", 0.2)]
-    hole = np.zeros((H, W), bool)
-    hole[8:22, 13:27] = True  # 14 px square: +-7 px, 0.93 world units at the wall (7.5 px a unit)
-    sigmas = torch.tensor([0.1, 0.6])  # 0.75 px and 4.5 px: visible (alpha 0.1) to 1.6 and 9.6 px
-    gaussians = {"means": torch.zeros(2, 3), "quats": torch.tensor([[1.0, 0, 0, 0]] * 2),
-                 "scales": torch.log(sigmas)[:, None].repeat(1, 3), "opacities": torch.full((2, 1), 4.6)}
+    hole = square_hole()
+    gaussians = round_gaussians([0.1, 0.6])  # 0.75 px and 4.5 px: visible (alpha 0.1) to 1.6 and 9.6 px
     shrunk, fits = fit_to_holes(gaussians, scene_of(cams), {0: hole, 1: hole})
     assert fits.tolist() == [True, True]
     assert torch.equal(shrunk["scales"][0], gaussians["scales"][0])
@@ -77,16 +90,11 @@ def test_a_gaussian_wider_than_its_hole_is_shrunk_into_it_and_one_that_fits_is_l
 def test_a_removed_gaussian_centred_in_the_hole_but_wider_than_it_stays_fixed():
     """What a completion may change (changeable): centred in the hole and fitting it at its own size. A wide one
     centred there renders past the hole too; changed or dropped, the views around the hole change with it."""
-    import torch
-
     from engine.complete.hole_region import changeable
 
     cams = [camera("left.png", -0.2), camera("right.png", 0.2)]
-    hole = np.zeros((H, W), bool)
-    hole[8:22, 13:27] = True
+    hole = square_hole()
     far = {0: np.full((H, W), 4.0), 1: np.full((H, W), 4.0)}
-    gaussians = {"means": torch.zeros(3, 3), "quats": torch.tensor([[1.0, 0, 0, 0]] * 3),
-                 "scales": torch.log(torch.tensor([0.1, 0.6, 0.1]))[:, None].repeat(1, 3),
-                 "opacities": torch.full((3, 1), 4.6)}
+    gaussians = round_gaussians([0.1, 0.6, 0.1])
     gaussians["means"][2, 0] = 2.0  # in no hole
     assert changeable(gaussians, scene_of(cams), {0: hole, 1: hole}, far).tolist() == [True, False, False]
