@@ -107,9 +107,7 @@ def _fits_in_view(activated: Gaussians, reach: torch.Tensor, camera, hole: np.nd
     z, centre, conics, _ = project_gaussians(activated["means"].float(), activated["quats"].float(),
                                              activated["scales"], activated["opacities"], view.viewmat, view.K,
                                              camera.width, camera.height, NEAR, 1e10, 0.3)
-    a, b, c = conics.unbind(-1)
-    covariance = torch.stack([c, -b, -b, a], -1).reshape(-1, 2, 2) / (a * c - b * b).clamp_min(1e-12)[:, None, None]
-    axes = torch.linalg.cholesky(covariance + 1e-6 * torch.eye(2))
+    axes = _ellipse_axes(conics)
     angles = torch.linspace(0.0, 2.0 * np.pi, ELLIPSE_POINTS + 1)[:-1]
     circle = torch.stack([angles.cos(), angles.sin()], -1)
     rim = centre[:, None, :] + reach[:, None, None] * (circle[None] @ axes.transpose(1, 2))
@@ -119,6 +117,17 @@ def _fits_in_view(activated: Gaussians, reach: torch.Tensor, camera, hole: np.nd
     ahead = z.numpy() > NEAR
     fits = ~(centre_in & centre_seen & ahead) | (in_hole.mean(axis=1) >= FIT_SHARE)
     return fits & (~(~centre_seen & ahead) | (in_hole | ~in_image).all(axis=1))  # reaching in from past the frame
+
+
+def _ellipse_axes(conics: torch.Tensor) -> torch.Tensor:
+    """(N, 2, 2) matrices A with A A^T the 2D covariance of each conic (the inverse covariance's three entries), from
+    the conic's eigenvectors in float64. Why not a Cholesky factor of the inverted conic: a long, thin Gaussian
+    projects to a conic whose determinant float32 rounds to zero or below (gsplat then culls it), and the factoring
+    stopped every completion of three `_s8`/`_s90` scenes on the GPU (`linalg.cholesky`, not positive-definite). A
+    direction the conic does not bound gets an axis of 1e6 px, so such a Gaussian fits no hole."""
+    a, b, c = torch.nan_to_num(conics.double(), nan=0.0, posinf=0.0, neginf=0.0).unbind(-1)
+    curvature, vectors = torch.linalg.eigh(torch.stack([a, b, b, c], -1).reshape(-1, 2, 2))
+    return (vectors / curvature.clamp_min(1e-12).sqrt()[:, None, :]).float()
 
 
 def split_at_hole(gaussians: Gaussians, movable: np.ndarray) -> tuple[Gaussians, Gaussians]:

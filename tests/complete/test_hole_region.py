@@ -98,3 +98,21 @@ def test_a_removed_gaussian_centred_in_the_hole_but_wider_than_it_stays_fixed():
     gaussians = round_gaussians([0.1, 0.6, 0.1])
     gaussians["means"][2, 0] = 2.0  # in no hole
     assert changeable(gaussians, scene_of(cams), {0: hole, 1: hole}, far).tolist() == [True, False, False]
+
+
+def test_a_needle_whose_projection_rounds_to_no_ellipse_fits_no_hole_and_stops_nothing():
+    """A Gaussian 1000 units long and 1e-4 across projects to a conic whose determinant float32 rounds below zero
+    (the rasterizer culls it). Such Gaussians stopped Ref on three GPU scenes (`linalg.cholesky`: not
+    positive-definite); the unbounded direction now reaches past the hole, so it stays fixed."""
+    import torch
+
+    from engine.complete.hole_region import changeable
+
+    cams = [camera("left.png", -0.2), camera("right.png", 0.2)]
+    hole = square_hole()
+    far = {0: np.full((H, W), 4.0), 1: np.full((H, W), 4.0)}
+    gaussians = round_gaussians([0.1, 0.1])
+    gaussians["scales"][1] = torch.log(torch.tensor([1000.0, 1e-4, 1e-4]))
+    turn = torch.tensor([np.cos(0.15), 0.3 * np.sin(0.15), 0.2 * np.sin(0.15), np.sin(0.15)])
+    gaussians["quats"][1] = (turn / turn.norm()).float()
+    assert changeable(gaussians, scene_of(cams), {0: hole, 1: hole}, far).tolist() == [True, False]
