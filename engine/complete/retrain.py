@@ -56,15 +56,16 @@ class NewSceneMethod(CompletionMethod):
                 + ("[warm]" if options.get("warm") else "") + ("[whole]" if kept_whole(options) else ""))
 
     def after_train(self, job) -> dict | None:
-        """From scratch: the new scene grafted into the removed one at the hole (engine.complete.warm_start.graft)
-        unless --no-keep-rest or --recolmap keeps it whole."""
-        if job.options.get("warm") or kept_whole(job.options):
+        """Warm: what trained kept to the hole (engine.complete.warm_start.confine). From scratch: the new scene
+        grafted into the removed one at the hole (warm_start.graft) unless --no-keep-rest or --recolmap keeps it
+        whole."""
+        if kept_whole(job.options):
             return None
         if not job.holes.root.is_dir():  # Direct needs no hole masks, and without them the hole is unknown
             return {"kept_whole": f"{job.holes.root} missing: run `holes` to keep the rest as removal left it"}
-        from engine.complete.warm_start import graft
+        from engine.complete.warm_start import confine, fixed_of_warm_start, graft
 
-        return graft(job)
+        return confine(job, fixed_of_warm_start(job)) if job.options.get("warm") else graft(job)
 
     def check(self, job) -> None:
         if job.options.get("warm") and job.options.get("recolmap"):

@@ -125,9 +125,9 @@ def run_complete(config: CompleteConfig) -> dict:
     settings, plugins = job.method.setup(job, settings)
     metrics = train(settings, resume=out.run.config_json.is_file(), plugins=plugins,
                     resume_hint="the same `python -m engine complete` command (or with --resume)")
-    grafted = job.method.after_train(job)
-    if grafted:
-        metrics = {**metrics, "gaussians": grafted.get("gaussians", metrics["gaussians"]), "graft": grafted}
+    kept = job.method.after_train(job)  # the trained part kept to the hole (grafted, or confined)
+    if kept:
+        metrics = {**metrics, "gaussians": kept.get("gaussians", metrics["gaussians"]), "kept_to_hole": kept}
     seconds = time.perf_counter() - start
     clock["train"] = seconds - clock["scene"]
     clock["train_loop"] = float(metrics.get("train_seconds", 0.0))
@@ -237,7 +237,7 @@ def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | Non
               "phases": {k: round(v, 2) for k, v in clock.items()},
               "gaussians": metrics["gaussians"], "scores": scores.values, "unavailable": scores.unavailable,
               "removed_scores": baseline.values, "oracle_scores": score_oracles(job.original.scene),
-              "recolmap": colmap, "graft": metrics.get("graft"),
+              "recolmap": colmap, "kept_to_hole": metrics.get("kept_to_hole"),
               "turntable": video and str(video.relative_to(out.root)), "gpu": gpu_name(job.device),
               "versions": versions()}
     partial = out.root / ".scores.json.tmp"

@@ -21,7 +21,7 @@ from engine.complete.finetune import hole_gaussians, nearest_identity, reference
 from engine.complete.hole_region import changeable, check_movable, fit_to_holes, hole_bound, split_at_hole
 from engine.formats.layout import InpaintedLayout, RemovedLayout
 from engine.inpaint.run import inpainted_dilation
-from engine.io.gaussians import Gaussians, concat
+from engine.io.gaussians import PARAM_NAMES, Gaussians, concat
 from engine.io.image_io import exr_name, read_depth
 from engine.io.masks import dilate, read_masks
 from engine.io.ply_io import load_ply
@@ -76,23 +76,64 @@ def graft(job) -> dict:
     removed scene's Gaussians kept are all but those the completion may change (hole_region.changeable: a wide one
     centred in the hole stays, as it renders past it too). A resumed run grafts again what its last checkpoint
     writes back (the trained scene), so the result is the same."""
-    from engine.io.ply_io import save_classifier, save_ply
+    from engine.io.ply_io import save_classifier
 
     scene, layout = job.original.scene, job.out.run
     holes, surfaces = _hole_views(job)
     removed, trained = load_ply(job.removed.point_cloud), load_ply(layout.point_cloud)
     fixed = split_at_hole(removed, changeable(removed, scene, holes, surfaces))[1]
-    grown = {i: dilate(hole, GRAFT_RING_PX) for i, hole in holes.items()}  # the new part reaches the hole's edge
-    bound = split_at_hole(trained, hole_bound(trained["means"].numpy(), scene, grown, surfaces))[0]
-    inside = split_at_hole(*fit_to_holes(bound, scene, grown))[0]
+    inside = _kept_to_holes(trained, scene, holes, surfaces)
     if len(inside["means"]):
         inside["identity"] = nearest_identity(inside["means"], removed)
-    partial = layout.point_cloud.with_name(".grafted.ply")
-    save_ply(partial, concat(fixed, inside))
-    partial.replace(layout.point_cloud)
+    _write_scene(layout.point_cloud, concat(fixed, inside))
     save_classifier(layout.classifier, job.original.classifier)
     return {"new_in_hole": len(inside["means"]), "new_elsewhere": len(trained["means"]) - len(inside["means"]),
             "removed_kept": len(fixed["means"]), "gaussians": len(fixed["means"]) + len(inside["means"])}
+
+
+def confine(job, fixed_count: int) -> dict:
+    """A run that trained beside fixed Gaussians (warm Init, Ref and Direct; FT), its trained part kept to the hole
+    after training as the graft keeps a scratch scene's: what renders into the hole alone (grown by GRAFT_RING_PX),
+    those grown wider than it shrunk into it, the rest dropped. The run's scene holds the `fixed_count` fixed
+    Gaussians first (engine.train.trainer), and they stay as they are. Why: training moves Gaussians and MCMC adds
+    them near the hole, and nothing held them to it in the views no step drew: the held-out test views, and any
+    view a user renders. On the statue capture the warm Ref grew its hole's Gaussians from 0 to 143,035 (the
+    removed object's share of the budget) and its test views outside the holes fell to 23.9 dB against the removed
+    scene's renders, with a streak where the statue stood (5e5ff92, `docs/results/capture/statue.json`)."""
+    scene, layout = job.original.scene, job.out.run
+    holes, surfaces = _hole_views(job)
+    now = load_ply(layout.point_cloud)
+    fixed = {k: now[k][:fixed_count].float() for k in PARAM_NAMES}
+    trained = {k: now[k][fixed_count:].float() for k in PARAM_NAMES}
+    inside = _kept_to_holes(trained, scene, holes, surfaces)
+    _write_scene(layout.point_cloud, concat(fixed, inside))
+    return {"trained_in_hole": len(inside["means"]), "trained_dropped": len(trained["means"]) - len(inside["means"]),
+            "fixed": fixed_count, "gaussians": fixed_count + len(inside["means"])}
+
+
+def fixed_of_warm_start(job) -> int:
+    """How many fixed Gaussians a warm start trained beside (warm_setup's split of the removed scene, again)."""
+    holes, surfaces = _hole_views(job)
+    removed = load_ply(job.removed.point_cloud)
+    return int((~changeable(removed, job.original.scene, holes, surfaces)).sum())
+
+
+def _kept_to_holes(gaussians: Gaussians, scene, holes: dict[int, np.ndarray],
+                   surfaces: dict[int, np.ndarray]) -> Gaussians:
+    """The `gaussians` whose centres render into the holes grown by GRAFT_RING_PX (they cover the hole's edge) and
+    nowhere else, shrunk to fit them where wider (hole_region.hole_bound, fit_to_holes)."""
+    grown = {i: dilate(hole, GRAFT_RING_PX) for i, hole in holes.items()}
+    bound = split_at_hole(gaussians, hole_bound(gaussians["means"].numpy(), scene, grown, surfaces))[0]
+    return split_at_hole(*fit_to_holes(bound, scene, grown))[0]
+
+
+def _write_scene(path, gaussians: Gaussians) -> None:
+    """`gaussians` over the run's point_cloud.ply, whole or not at all."""
+    from engine.io.ply_io import save_ply
+
+    partial = path.with_name(".kept.ply")
+    save_ply(partial, gaussians)
+    partial.replace(path)
 
 
 def _seeds(job, holes: dict[int, np.ndarray], surfaces: dict[int, np.ndarray], removed: Gaussians,

@@ -29,6 +29,13 @@ class Finetune(CompletionMethod):
         tag = "" if options["perceptual"] == "lpips" else f"[{options['perceptual']}]"
         return f"FT-{inpainter}({options['refs'] or 'All'}){tag}"
 
+    def after_train(self, job) -> dict | None:
+        """The new Gaussians kept to the hole (engine.complete.warm_start.confine); the removed scene is fixed."""
+        from engine.complete.warm_start import confine
+        from engine.io.ply_io import load_ply
+
+        return confine(job, len(load_ply(job.removed.point_cloud)["means"]))
+
     def setup(self, job, settings):
         from engine.complete.finetune import finetune_setup
 
