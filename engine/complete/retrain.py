@@ -63,9 +63,9 @@ class NewSceneMethod(CompletionMethod):
             return None
         if not job.holes.root.is_dir():  # Direct needs no hole masks, and without them the hole is unknown
             return {"kept_whole": f"{job.holes.root} missing: run `holes` to keep the rest as removal left it"}
-        from engine.complete.warm_start import confine, fixed_of_warm_start, graft
+        from engine.complete.warm_start import confine, graft
 
-        return confine(job, fixed_of_warm_start(job)) if job.options.get("warm") else graft(job)
+        return confine(job, warm=True) if job.options.get("warm") else graft(job)
 
     def check(self, job) -> None:
         if job.options.get("warm") and job.options.get("recolmap"):

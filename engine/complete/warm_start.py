@@ -91,31 +91,27 @@ def graft(job) -> dict:
             "removed_kept": len(fixed["means"]), "gaussians": len(fixed["means"]) + len(inside["means"])}
 
 
-def confine(job, fixed_count: int) -> dict:
-    """A run that trained beside fixed Gaussians (warm Init, Ref and Direct; FT), its trained part kept to the hole
+def confine(job, warm: bool) -> dict:
+    """A run that trained beside fixed Gaussians (`warm` Init, Ref and Direct: the removed scene but what a
+    completion may change, hole_region.changeable; FT: the whole removed scene), its trained part kept to the hole
     after training as the graft keeps a scratch scene's: what renders into the hole alone (grown by GRAFT_RING_PX),
-    those grown wider than it shrunk into it, the rest dropped. The run's scene holds the `fixed_count` fixed
-    Gaussians first (engine.train.trainer), and they stay as they are. Why: training moves Gaussians and MCMC adds
-    them near the hole, and nothing held them to it in the views no step drew: the held-out test views, and any
-    view a user renders. On the statue capture the warm Ref grew its hole's Gaussians from 0 to 143,035 (the
-    removed object's share of the budget) and its test views outside the holes fell to 23.9 dB against the removed
-    scene's renders, with a streak where the statue stood (5e5ff92, `docs/results/capture/statue.json`)."""
+    those grown wider than it shrunk into it, the rest dropped. The run's scene holds the fixed Gaussians first
+    (engine.train.trainer), and they stay as they are. Why: training moves Gaussians and MCMC adds them near the
+    hole, and nothing held them to it in the views no step drew: the held-out test views, and any view a user
+    renders. On the statue capture the warm Ref grew its hole's Gaussians from 0 to 143,035 (the removed object's
+    share of the budget) and its test views outside the holes fell to 23.9 dB against the removed scene's renders,
+    with a streak where the statue stood (5e5ff92, `docs/results/capture/statue.json`)."""
     scene, layout = job.original.scene, job.out.run
     holes, surfaces = _hole_views(job)
-    now = load_ply(layout.point_cloud)
+    removed, now = load_ply(job.removed.point_cloud), load_ply(layout.point_cloud)
+    fixed_count = (int((~changeable(removed, scene, holes, surfaces)).sum()) if warm  # warm_setup's split, again
+                   else len(removed["means"]))
     fixed = {k: now[k][:fixed_count].float() for k in PARAM_NAMES}
     trained = {k: now[k][fixed_count:].float() for k in PARAM_NAMES}
     inside = _kept_to_holes(trained, scene, holes, surfaces)
     _write_scene(layout.point_cloud, concat(fixed, inside))
     return {"trained_in_hole": len(inside["means"]), "trained_dropped": len(trained["means"]) - len(inside["means"]),
             "fixed": fixed_count, "gaussians": fixed_count + len(inside["means"])}
-
-
-def fixed_of_warm_start(job) -> int:
-    """How many fixed Gaussians a warm start trained beside (warm_setup's split of the removed scene, again)."""
-    holes, surfaces = _hole_views(job)
-    removed = load_ply(job.removed.point_cloud)
-    return int((~changeable(removed, job.original.scene, holes, surfaces)).sum())
 
 
 def _kept_to_holes(gaussians: Gaussians, scene, holes: dict[int, np.ndarray],

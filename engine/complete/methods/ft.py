@@ -32,9 +32,8 @@ class Finetune(CompletionMethod):
     def after_train(self, job) -> dict | None:
         """The new Gaussians kept to the hole (engine.complete.warm_start.confine); the removed scene is fixed."""
         from engine.complete.warm_start import confine
-        from engine.io.ply_io import load_ply
 
-        return confine(job, len(load_ply(job.removed.point_cloud)["means"]))
+        return confine(job, warm=False)
 
     def setup(self, job, settings):
         from engine.complete.finetune import finetune_setup
