@@ -236,7 +236,7 @@ def _ring(cells: np.ndarray, gap: int, width: int) -> np.ndarray:
 def _search_light(site: Site, obj_sample: np.ndarray, apart: float, points: np.ndarray, log_y: np.ndarray,
                   config: EffectsConfig) -> tuple[tuple[float, float] | None, int]:
     """The light (elevation, azimuth in degrees) whose cast footprint of the object covers the views' dark
-    samples best (_missing_light) and starts dark at the object (_attached): every 5 degrees of elevation and 6
+    samples best and starts dark at the object (_missing_light, its part `near`): every 5 degrees of elevation and 6
     of azimuth, then finer around the best. Then again without the samples on lines that are dark past the
     object's sunlit side under that light's azimuth (band_lines): bands from elsewhere pull the elevation down (a
     hand-built band across half the box's shadow: 20 degrees for the true 40). Also how many samples were kept
