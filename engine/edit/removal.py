@@ -16,7 +16,8 @@ contact sheet.
 
 With `effects` (the default) what the object did around itself goes too: its cast shadow (engine.edit.effects),
 then the darkening under and beside it (engine.edit.contact_shade), then the crater grazing views built under it
-(engine.edit.underside). The Gaussians in them are relit (the crater repainted) before
+(engine.edit.underside), and where no support was built under it at all, a flat patch of it is laid (find_unbuilt).
+The Gaussians in them are relit (the crater repainted) before
 anything is rendered, so removed/ and every later stage see the scene without them, and removed/effects/
 holds each view's effect mask (255 = relit or repainted), effects.json (light direction, gains, why no shadow was found,
 recall and precision against the scene's effects/ where it has them) and a contact sheet. The plane the
@@ -51,12 +52,12 @@ from engine.edit.effects import (
 )
 from engine.edit.loose import loose_pieces
 from engine.edit.support_plane import Footprint, object_core, object_support
-from engine.edit.underside import Underside, find_underside, paint
+from engine.edit.underside import Underside, find_unbuilt, find_underside, paint
 from engine.formats.cameras import mean_up
 from engine.formats.layout import EffectsLayout, RemovedLayout
 from engine.geometry.scene_geometry import ProposalConfig, camera_frame, find_supports
 from engine.io.extent import inside_box
-from engine.io.gaussians import Gaussians
+from engine.io.gaussians import Gaussians, concat
 from engine.io.image_io import exr_name, write_depth, write_png
 from engine.io.masks import dilate
 from engine.io.ply_io import save_ply
@@ -202,7 +203,8 @@ def run_removal(config: RemovalConfig) -> dict:
             write_png(tmp.sheet, np.concatenate(sheet, axis=0))
         report = {"config": dataclasses.asdict(config), "object": dataclasses.asdict(obj) if obj else None,
                   "gaussians_before": int(len(removed)), "removed": int(removed.sum()),
-                  "gaussians_after": int((~removed).sum()), "selected_by": counts,
+                  "gaussians_after": len(remaining["means"]), "selected_by": counts,
+                  "laid": effects.laid if effects else 0,  # Gaussians of the unbuilt support's patch
                   "support_plane": None if plane is None else [*np.round(plane[0], 6).tolist(), round(plane[1], 6)],
                   "footprint": footprint.report() if footprint else None,
                   "shadow": shadow.report() if shadow else None,
@@ -225,21 +227,24 @@ class _Effects:
     search: ShadowSearch
     contact: ContactShade | None
     underside: Underside | None
+    laid: int = 0  # Gaussians of the patch for the support never built under the object, last in the scene
 
     def weights(self) -> np.ndarray | None:
-        """(N,) per remaining Gaussian, the share of an effect it carries; None where nothing was found."""
+        """(N,) per remaining Gaussian, the share of an effect it carries (none for the patch's); None where
+        nothing was found."""
         shadow, contact, under = self.search.shadow, self.contact, self.underside
         parts = ([effect_weights(shadow.shadowed, shadow.darkness)] if shadow else []) + \
             ([effect_weights(contact.shaded, contact.weight)] if contact else []) + \
             ([effect_weights(under.painted, under.weight)] if under else [])
-        return np.maximum.reduce(parts) if parts else None
+        return np.concatenate([np.maximum.reduce(parts), np.zeros(self.laid, np.float32)]) if parts else None
 
 
 def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: list[np.ndarray], after: list,
                   device, others: np.ndarray) -> tuple[dict, list, _Effects]:
     """Relight the object's cast shadow, then the darkening under and beside it, each judged by the views'
-    renders of the scene as it stands, then repaint the crater under it in the relit support's colour; the
-    changed Gaussians and their renders (depth unchanged). Other objects' Gaussians (`others`) stay as they are."""
+    renders of the scene as it stands, then repaint the crater under it in the relit support's colour, then lay
+    a patch where no support was built under it (last in the scene); the changed Gaussians and their renders
+    (depth changed only by the patch). Other objects' Gaussians (`others`) stay as they are."""
     scene, config = run.scene, EffectsConfig()
     before = _train_samples(scene, after, regions)
     search = find_shadow(remaining, core, plane, before, config, others)
@@ -250,7 +255,12 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
     cast = None if search.shadow is None else search.shadow.shadowed
     remaining, after, contact, underside = undo_darkening(run, remaining, core, plane, regions, after, device,
                                                           others, config, spared, cast, not search.surrounded)
-    return remaining, after, _Effects(search, contact, underside)
+    patch = find_unbuilt(remaining, core, plane, config, others)
+    if patch is None:
+        return remaining, after, _Effects(search, contact, underside)
+    remaining = concat(remaining, patch)
+    after = list(render_pictures(remaining, scene.cameras, run.sh_degree, device))  # its depth too
+    return remaining, after, _Effects(search, contact, underside, laid=len(patch["means"]))
 
 
 def _relit_to_gain(run: TrainedRun, remaining, shadow, before, after: list, regions: list[np.ndarray], device
@@ -372,6 +382,7 @@ def _write_effects(out: EffectsLayout, scene, gaussians, effects: _Effects, regi
     report = {"shadow": shadow.report() if shadow else None, "search": effects.search.report(),
               "contact": effects.contact.report() if effects.contact else None,
               "underside": effects.underside.report() if effects.underside else None,
+              "unbuilt_support_laid": effects.laid,
               "recall": float(np.mean(recall)) if recall else None,
               "precision": float(np.mean(precision)) if precision else None, "views_scored": len(recall)}
     out.report.write_text(json.dumps(report, indent=1))

@@ -52,7 +52,7 @@ def test_remove_selected_runs_the_engine_and_imports_the_scene_without_the_objec
     removed = Path(result["splatfill_removed"])
     report = json.loads((removed / "removal.json").read_text())
     assert removed.parent == run and report["object"]["name"] == "plush" and report["removed"] > 0
-    assert _vertices(result) == report["gaussians_after"] == _vertices(original) - report["removed"]
+    assert _vertices(result) == report["gaussians_after"] == _vertices(original) - report["removed"] + report["laid"]
     assert {o.name: len(o.data.vertices) for o in original.objects} == counts  # the original is untouched
     assert (run / "point_cloud.ply").stat().st_mtime_ns == before_ply
     bpy.context.view_layer.objects.active = result.objects[0]

@@ -7,6 +7,7 @@ import json
 
 import numpy as np
 import pytest
+import torch
 
 from engine.edit.effects import DETACHED, EffectsConfig, Samples, colors_of, find_shadow, relight
 from engine.edit.plane_grid import PlaneFrame
@@ -348,6 +349,34 @@ def test_the_crater_takes_the_mean_colour_of_a_support_of_uneven_stripes_not_its
     found = crater_underside(floor, seen, ball, EffectsConfig())
     # a flat fill scores best at the texture's mean; the median is the pale stripes' colour (G +0.1 too bright)
     assert found is not None and np.allclose(found.colour, seen[ring].mean(0), atol=0.02)
+
+
+def test_a_patch_of_the_support_is_laid_where_none_was_built_under_the_object_and_nowhere_else():
+    """The floor under one half of the box was never built (the views saw the box there), and a table of another
+    colour lies 0.1 below: after removal every view would look through to it (a toy on a cloth: the table's wood
+    showed where the toy stood). A flat patch in the floor's colour around covers that half, on the floor's plane;
+    the half that was built gets none, and a floor built everywhere none at all."""
+    from engine.edit.underside import UNBUILT, _cover, find_unbuilt
+
+    floor, lit, seen, truth, box = shadow_scene(sun(30), darken=1.0)
+    bare = (np.abs(floor[:, 0]) < 0.15) & (np.abs(floor[:, 1]) < 0.15) & (floor[:, 0] < 0)
+    table = floor[np.linalg.norm(floor[:, :2], axis=1) < 0.5] - [0.0, 0.0, 0.1]
+    built = gaussians(np.concatenate([floor[~bare], table]),
+                      np.concatenate([seen[~bare], np.tile([0.5, 0.3, 0.1], (len(table), 1))]))
+    up = np.array([0.0, 0.0, 1.0])
+    core = object_core(gaussians(box, np.full((len(box), 3), 0.9)), up)
+    plane = object_support(floor, core, up)
+    patch = find_unbuilt(built, core, plane, EffectsConfig())
+    assert patch is not None
+    assert np.abs(patch["means"][:, 2].numpy()).max() < 1e-3  # on the floor's plane, not the table's
+    assert patch["means"][:, 0].max() < 0.05  # over the bare half only, within a cell of its edge
+    assert np.all(np.abs(colors_of(patch) - lit.mean(0)) < 0.1)  # the floor's colour around
+    laid = {k: torch.cat([built[k], patch[k]]) for k in built}
+    everything = np.ones(len(laid["means"]), bool)
+    cover = _cover(laid, everything & (laid["means"][:, 2].numpy() > -0.05), lambda p: p[:, :2], floor[bare, :2],
+                   0.01)
+    assert cover.min() >= UNBUILT
+    assert find_unbuilt(gaussians(floor, seen), core, plane, EffectsConfig()) is None
 
 
 def test_other_objects_bases_keep_their_own_colours_in_the_contact_shade_and_the_crater():
