@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
+from engine.base.knn import knn
 from engine.edit.effects import LUMA, EffectsConfig, colors_of, darker_share, support_only, trimmed_mean
 from engine.edit.plane_grid import Site
 from engine.formats.splat_ply import SH_C0
@@ -117,10 +118,13 @@ def _cover(remaining: Gaussians, band: np.ndarray, flat, centres: np.ndarray, ce
     """(C,) how opaque the `band` Gaussians make each in-plane point `centres` seen from above: 1 - the product of
     (1 - opacity x falloff), each Gaussian's falloff a normal in its distance over its largest scale (a cell at
     least)."""
-    means = remaining["means"].numpy()[band]
-    opacity = torch.sigmoid(remaining["opacities"]).numpy().reshape(-1)[band]
-    sigma = np.maximum(np.exp(remaining["scales"].numpy()[band]).max(1), cell)
-    across = flat(means)
+    sigma = np.maximum(np.exp(remaining["scales"].numpy()).max(1), cell)
+    across = flat(remaining["means"].numpy())
+    middle = centres.mean(0)  # only those that reach the footprint: the band spans three object heights around it
+    reach = np.linalg.norm(centres - middle, axis=1).max() + 3.0 * sigma
+    near = band & (np.linalg.norm(across - middle, axis=1) < reach)
+    opacity = torch.sigmoid(remaining["opacities"]).numpy().reshape(-1)[near]
+    sigma, across = sigma[near], across[near]
     cover = np.zeros(len(centres))
     for start in range(0, len(centres), 256):
         d = np.linalg.norm(centres[start:start + 256, None] - across[None], axis=-1) / sigma[None]
@@ -135,8 +139,8 @@ def _flat_patch(remaining: Gaussians, points: np.ndarray, frame, cell: float, co
     every side, each with the identity of the nearest `band` Gaussian."""
     n = len(points)
     support = np.flatnonzero(band)
-    nearest = torch.as_tensor(support[np.argmin(np.linalg.norm(
-        remaining["means"].numpy()[support][None] - points[:, None], axis=-1), axis=1)])
+    _, ids = knn(torch.as_tensor(points, dtype=torch.float32), remaining["means"][torch.as_tensor(support)], 1)
+    nearest = torch.as_tensor(support)[ids[:, 0]]
     patch = {k: remaining[k][nearest].clone() for k in PARAM_NAMES}
     patch["means"] = torch.as_tensor(points, dtype=torch.float32)
     patch["quats"] = torch.as_tensor(_quaternion(np.stack([frame.a, frame.b, frame.n], 1)),
