@@ -243,7 +243,7 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
                   device, others: np.ndarray) -> tuple[dict, list, _Effects]:
     """Relight the object's cast shadow, then the darkening under and beside it, each judged by the views'
     renders of the scene as it stands, then repaint the crater under it in the relit support's colour, then lay
-    a patch where no support was built under it (last in the scene); the changed Gaussians and their renders
+    a patch where no support was built under it (undo_darkening); the changed Gaussians and their renders
     (depth changed only by the patch). Other objects' Gaussians (`others`) stay as they are."""
     scene, config = run.scene, EffectsConfig()
     before = _train_samples(scene, after, regions)
@@ -253,14 +253,9 @@ def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: 
         after = _rerendered(run, remaining, after, device, _untrained(scene))  # the rounds rendered the rest
     spared = others if search.shadow is None else others | search.shadow.theirs  # the contact shade leaves them
     cast = None if search.shadow is None else search.shadow.shadowed
-    remaining, after, contact, underside = undo_darkening(run, remaining, core, plane, regions, after, device,
-                                                          others, config, spared, cast, not search.surrounded)
-    patch = find_unbuilt(remaining, core, plane, config, others)
-    if patch is None:
-        return remaining, after, _Effects(search, contact, underside)
-    remaining = concat(remaining, patch)
-    after = list(render_pictures(remaining, scene.cameras, run.sh_degree, device))  # its depth too
-    return remaining, after, _Effects(search, contact, underside, laid=len(patch["means"]))
+    remaining, after, contact, underside, laid = undo_darkening(run, remaining, core, plane, regions, after, device,
+                                                                others, config, spared, cast, not search.surrounded)
+    return remaining, after, _Effects(search, contact, underside, laid)
 
 
 def _relit_to_gain(run: TrainedRun, remaining, shadow, before, after: list, regions: list[np.ndarray], device
@@ -288,15 +283,16 @@ def _relit_to_gain(run: TrainedRun, remaining, shadow, before, after: list, regi
 def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions: list[np.ndarray], after: list,
                    device, others: np.ndarray, config: EffectsConfig, spared: np.ndarray | None = None,
                    cast: np.ndarray | None = None, shade: bool = True
-                   ) -> tuple[dict, list, ContactShade | None, Underside | None]:
+                   ) -> tuple[dict, list, ContactShade | None, Underside | None, int]:
     """What follows the cast shadow: the darkening under and beside the object relit, judged by `after` (the
-    renders of `remaining` as it stands), then the crater under it repainted; the changed Gaussians, their
-    renders, and what was found. `spared` (default `others`): what the contact shade leaves as it is, the other
-    objects and the support in their own cast shadows (Shadow.theirs); `cast` (bool over `remaining`): the
-    object's own cast shadow, relit (find_contact_shade's `cast`). `shade` False: no contact shade, where the
-    object stands in darkness not its own (ShadowSearch.surrounded: held-out statue_s100 on one H200, a tree's
-    band relit around the pedestal as its contact shade, effect precision 0.21). Apart so that a study of the
-    shadow's relight can finish its variants exactly as removal does."""
+    renders of `remaining` as it stands), then the crater under it repainted, then a patch laid where no support
+    was built under it (underside.find_unbuilt, last in the scene); the changed Gaussians, their renders (each
+    view once), what was found, and how many Gaussians the patch laid. `spared` (default `others`): what the
+    contact shade leaves as it is, the other objects and the support in their own cast shadows (Shadow.theirs);
+    `cast` (bool over `remaining`): the object's own cast shadow, relit (find_contact_shade's `cast`). `shade`
+    False: no contact shade, where the object stands in darkness not its own (ShadowSearch.surrounded: held-out
+    statue_s100 on one H200, a tree's band relit around the pedestal as its contact shade, effect precision 0.21).
+    Apart so that a study of the shadow's relight can finish its variants exactly as removal does."""
     contact = None
     # what one relight leaves of it is looked for again, as the shadow's is
     for _ in range(CONTACT_ROUNDS if shade else 0):
@@ -312,11 +308,15 @@ def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions:
     underside = find_underside(remaining, core, plane, config, others)  # reads the Gaussians, not the renders
     if underside is not None:
         remaining = paint(remaining, underside)
-    if underside is not None:
+    patch = find_unbuilt(remaining, core, plane, config, others)
+    if patch is not None:  # last in the scene; it moves surfaces, so every view with its depth
+        remaining = concat(remaining, patch)
+        after = list(render_pictures(remaining, run.scene.cameras, run.sh_degree, device))
+    elif underside is not None:
         after = _rerendered(run, remaining, after, device)  # every view, once both are done
     elif contact is not None:  # its last round rendered the training views
         after = _rerendered(run, remaining, after, device, _untrained(run.scene))
-    return remaining, after, contact, underside
+    return remaining, after, contact, underside, 0 if patch is None else len(patch["means"])
 
 
 def _train_samples(scene, after: list, masks: list[np.ndarray]) -> Samples:
