@@ -49,8 +49,8 @@ $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_WEIGHTS) &: .venv/.ready
 	$(ENGINE) -m engine weights --setup --out .weights
 
 # The main job, end to end on a generated scene: generate -> train (Gaussian Grouping) -> remove the target
-# -> hole masks -> inpaint (fsr, offline) -> complete (Init-fsr[warm], FT-fsr(3) with the L1 perceptual term, as no
-# LPIPS weights ship) and score. Small sizes, a few minutes on a CPU;
+# -> hole masks -> inpaint and complete at their defaults (Ref-telea[warm]), then FT-telea(3) with the L1 perceptual
+# term (no LPIPS weights ship), each scored. Small sizes, a few minutes on a CPU;
 # DEMO_RES, DEMO_VIEWS and DEMO_STEPS scale it up (a GPU is used when there is one).
 DEMO_RES ?= 128
 DEMO_VIEWS ?= 16
@@ -62,9 +62,8 @@ demo: .venv/.ready $(BLENDER_ENV) $(FID_WEIGHTS) $(ST_LPIPS_WEIGHTS) $(SALIENT_W
 	$(ENGINE) -m engine train --scene $(DEMO)/scene --out $(DEMO)/run --preset tiny --steps $(DEMO_STEPS) --max-gaussians 20000
 	$(ENGINE) -m engine remove --run $(DEMO)/run --object plush
 	$(ENGINE) -m engine holes --run $(DEMO)/run
+	$(ENGINE) -m engine inpaint --run $(DEMO)/run --dilate 2
 	$(ENGINE) -m engine complete --run $(DEMO)/run
-	$(ENGINE) -m engine inpaint --run $(DEMO)/run --inpainter telea --dilate 2
-	$(ENGINE) -m engine complete --run $(DEMO)/run --method reference --inpainter telea
 	$(ENGINE) -m engine complete --run $(DEMO)/run --method ft --refs 3 --inpainter telea --perceptual l1
 	@echo "scene: $(DEMO)/scene  run: $(DEMO)/run  pictures: $(DEMO)/preview.png, $(DEMO)/run/removed/sheet.png,"
 	@echo "  $(DEMO)/run/holes/sheet.png, $(DEMO)/run/inpainted/telea/sheet_test.png"

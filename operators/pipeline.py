@@ -43,8 +43,7 @@ def _plugin_items(kind: str) -> list[tuple[str, str, str]]:
             items = [(m["name"], m["label"], f"{m['summary']} (needs: {m['needs']})")
                      for m in plugins["methods"] if m["source"] == "removed"]
             first = defaults.get("method") or (defaults.get("best_on_mean") or [None])[0]
-            items = [(n, label, f"{tip}. {defaults['verdict'].capitalize()}: this is the best held-out mean"
-                      if n == first and not defaults.get("method") and defaults.get("verdict") else tip)
+            items = [(n, label, f"{tip}. The default: {defaults['why']}" if n == first and defaults.get("why") else tip)
                      for n, label, tip in items]
         _ITEMS[kind] = sorted(items, key=lambda item: item[0] != first)  # Blender's default is the first item
     return _ITEMS[kind]

@@ -4,7 +4,7 @@ and --markdown gives the README's table (a test keeps the README equal to it).""
 
 from __future__ import annotations
 
-from engine.base.defaults import BEST_ON_MEAN, DEFAULT_INPAINTER, DEFAULT_METHOD, VERDICT
+from engine.base.defaults import BEST_ON_MEAN, DEFAULT_INPAINTER, DEFAULT_METHOD, WHY
 from engine.complete.registry import methods
 from engine.inpaint.registry import classes
 
@@ -12,7 +12,7 @@ from engine.inpaint.registry import classes
 def describe() -> dict:
     """{"inpainters": [...], "methods": [...], "defaults": {...}}, each with its name, summary and needs; methods
     also with their label, the inpainting they read, their options and their benchmark cells; the defaults the
-    held-out table chose (engine.base.defaults), which the add-on's menus offer first."""
+    tuning scenes chose and why (engine.base.defaults), which the add-on's menus offer first."""
     inpainters = [{"name": name, "summary": cls.summary, "needs": cls.needs.describe(), "uses_mask": cls.uses_mask}
                   for name, cls in classes().items()]
     completion = [{"name": m.name, "label": m.label, "summary": m.summary, "source": m.source,
@@ -20,7 +20,7 @@ def describe() -> dict:
                    "options": [{"name": o.name, "default": o.default, "help": o.help, "choices": list(o.choices)}
                                for o in m.options]} for m in methods().values()]
     defaults = {"method": DEFAULT_METHOD, "inpainter": DEFAULT_INPAINTER, "best_on_mean": list(BEST_ON_MEAN),
-                "verdict": VERDICT}
+                "why": WHY}
     return {"inpainters": inpainters, "methods": completion, "defaults": defaults}
 
 

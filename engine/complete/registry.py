@@ -77,9 +77,9 @@ class CompletionMethod:
 
 
 def fill_hint(run: str) -> str:
-    """The command that fills the hole anyway, with the best held-out mean."""
-    return (f"to fill it anyway: `complete --run {run} --method {BEST_ON_MEAN[0]} --inpainter {BEST_ON_MEAN[1]}` "
-            f"after `inpaint --run {run} --inpainter {BEST_ON_MEAN[1]}` (the best held-out mean m-PSNR)")
+    """The command that fills the hole, with the best tuning mean."""
+    return (f"to fill it: `complete --run {run} --method {BEST_ON_MEAN[0]} --inpainter {BEST_ON_MEAN[1]}` "
+            f"after `inpaint --run {run} --inpainter {BEST_ON_MEAN[1]}` (the best mean m-PSNR on the tuning scenes)")
 
 
 METHODS: Registry[CompletionMethod] = Registry("method", "engine.complete.methods")

@@ -24,7 +24,7 @@ from pathlib import Path
 import torch
 
 from engine.base.config_cli import add_option
-from engine.base.defaults import DEFAULT_INPAINTER, DEFAULT_METHOD, VERDICT
+from engine.base.defaults import DEFAULT_INPAINTER, DEFAULT_METHOD, LEFT, WHY
 from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir, check_new_output
@@ -44,7 +44,7 @@ from engine.train.trained_run import TrainedRun, load_run
 @dataclass
 class CompleteConfig:
     run: str = ""  # the training run to complete
-    method: str = DEFAULT_METHOD  # init | reference | ft | direct (`engine plugins`); "": leave the hole (VERDICT)
+    method: str = DEFAULT_METHOD  # init | reference | ft | direct (`engine plugins`); "": leave the hole (LEFT)
     inpainter: str = DEFAULT_INPAINTER  # whose inpainted views to train on
     inpainted: str = ""  # default RUN/inpainted/<inpainter> (direct: RUN/inpainted/direct-<inpainter>)
     removed: str = ""  # default RUN/removed (its removal.json names the object; its renders are the baseline)
@@ -85,8 +85,7 @@ class CompletionJob:
 def add_method_arguments(parser: argparse.ArgumentParser) -> None:
     """--method and every registered method's options (the common flags come from CompleteConfig)."""
     parser.add_argument("--method", default=DEFAULT_METHOD, choices=["", *methods()],
-                        help=f"(default: none, {VERDICT})" if not DEFAULT_METHOD
-                        else f"(default: {DEFAULT_METHOD})")
+                        help=f"(default: {DEFAULT_METHOD or 'none'}: {WHY}; {LEFT})")
     for option in all_options().values():
         add_option(parser, option.name, option.default, f"{option.help} (default: {option.default})"
                    if isinstance(option.default, bool) else option.help, choices=option.choices)
@@ -135,14 +134,14 @@ def run_complete(config: CompleteConfig) -> dict:
 
 
 def leave_hole(config: CompleteConfig) -> dict:
-    """The default while no method beats the unfilled hole (VERDICT): nothing is trained or written; the report
-    names the removed scene, which is the result, and how to fill the hole anyway."""
+    """`--method ''` (LEFT), the default while no method beats the unfilled hole on the tuning scenes: nothing is
+    trained or written; the report names the removed scene, which is the result, and how to fill the hole."""
     run = load_run(config.run).layout
     removed = RemovedLayout(config.removed) if config.removed else run.removed
     if not removed.point_cloud.is_file():
         raise InputError(f"{removed.point_cloud} missing: run `python -m engine remove --run {run.root}` first")
-    report = {"method": None, "verdict": VERDICT, "scene": str(removed.point_cloud), "hint": fill_hint(config.run)}
-    emit("done", stage="complete", method=None, scene=report["scene"], verdict=VERDICT)
+    report = {"method": None, "verdict": LEFT, "scene": str(removed.point_cloud), "hint": fill_hint(config.run)}
+    emit("done", stage="complete", method=None, scene=report["scene"], verdict=LEFT)
     return report
 
 

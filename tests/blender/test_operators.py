@@ -194,8 +194,8 @@ def test_the_inpaint_and_complete_menus_list_the_engines_plugins(package, monkey
     methods = {item[0] for item in pipeline._plugin_items("methods")}
     assert {"telea", "fsr", "exemplar", "lama"} <= inpainters and "nanobanana" not in inpainters
     assert methods == {"init", "ft", "reference"}  # direct reads `inpaint --source input`, which no operator writes
-    # the defaults the held-out table chose come first (Blender preselects the first item), and the Complete menu
-    # says that no method beat leaving the hole (engine.base.defaults)
+    # the defaults the tuning scenes chose come first (Blender preselects the first item), and the Complete menu
+    # says why (engine.base.defaults)
     first_method, first_inpainter = pipeline._plugin_items("methods")[0], pipeline._plugin_items("inpainters")[0]
     assert (first_method[0], first_inpainter[0]) == ("reference", "telea")
     assert "unfilled hole" in first_method[2]
