@@ -151,6 +151,21 @@ def off_support(camera: Camera, region: np.ndarray, depth: np.ndarray, plane: tu
     return out
 
 
+def standing_on(camera: Camera, region: np.ndarray, depth: np.ndarray, plane: tuple[np.ndarray, float],
+                tol: float) -> np.ndarray:
+    """(H, W) bool: `region` pixels whose rendered surface (`depth`) lies in front of the plane, nearer the camera
+    than where the ray meets it by more than `tol` of that depth: what stands on the support (or hangs on the wall),
+    not the support. Rays that never meet the plane in front of the camera (the backdrop above a table's horizon)
+    and surfaces beyond it (the floor past the table's edge) are not."""
+    ys, xs = np.nonzero(region & np.isfinite(depth))
+    _, z_plane = plane_along_rays(camera, ys, xs, plane)
+    with np.errstate(invalid="ignore"):
+        front = (z_plane > 0) & np.isfinite(z_plane) & (depth[ys, xs] < z_plane * (1 - tol))
+    out = np.zeros(region.shape, bool)
+    out[ys[front], xs[front]] = True
+    return out
+
+
 def object_core(removed: Gaussians, up: np.ndarray) -> np.ndarray:
     """(M, 3) the removed object's visible Gaussians (opacity > 0.1) without the strays the removal also
     took (floaters of its identity far away): those within 3x the median distance from its vertical axis."""

@@ -7,9 +7,11 @@ by GROW_SHARE of the image's width unless --dilate gives the pixels: a render bl
 or two beside it, and an inpainter fills from them (the paper dilates as well). The border that is wrong further
 out (a remnant's edge, the contact shade relit in part) `holes` already took into the masks where the photos
 contradict it (engine.edit.border); growing every hole by 4% of the width, as before, also replaced the right
-border an inpainter reads (docs/BENCHMARKS.md, "Hole masks"). With source "input" (the direct baseline,
-RUN/inpainted/direct-<inpainter>) the object's whole region is filled in the input images instead, RGB
-only; an inpainter that takes no mask (nanobanana, the paper's Init-NanoBanana) always works that way.
+border an inpainter reads (docs/BENCHMARKS.md, "Hole masks"). What stands on the support within --shield of the
+width of the hole (another object, a remnant) is no source, since an inpainter runs its colour into the fill. With
+source "input" (the direct baseline, RUN/inpainted/direct-<inpainter>) the object's whole region is filled in the
+input images instead, RGB only; an inpainter that takes no mask (nanobanana, the paper's Init-NanoBanana) always
+works that way.
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
 from engine.edit.holes import iou
-from engine.edit.support_plane import removal_plane, stop_at_plane
+from engine.edit.support_plane import removal_plane, standing_on, stop_at_plane
 from engine.formats.cameras import Camera
 from engine.formats.layout import HolesLayout, InpaintedLayout, RemovedLayout, RunLayout
 from engine.inpaint.keep import like_ring
@@ -47,6 +49,7 @@ from engine.train.trained_run import load_run_scene
 SHEET_ROWS = 6
 PARENT_POLL_S = 1.0  # how often a worker process checks that its parent still runs
 GROW_SHARE = 0.01  # the masks grow by this share of the image width by default (2 px at 160 px, 3 at 320)
+SHIELD_TOL = 0.02  # of the plane's depth: nearer than the support by more than this, a pixel stands on it
 
 
 def _saved_report(inpainted: InpaintedLayout) -> dict:
@@ -92,6 +95,7 @@ class InpaintConfig:
     workers: int = 0  # views inpainted at once (0: the cores, up to 8, where the inpainter allows it; else 1)
     parallel: str = ""  # threads | processes: how views go at once ("": the inpainter's Inpainter.parallel_views)
     keep: float = 0.0  # keep the removed render where its colour is within this many ring deviations (0: fill all)
+    shield: float = 0.05  # share of the image width: what stands on the support this near the hole is no source
 
 
 def inpainted_inpainter(inpainted: InpaintedLayout):
@@ -131,7 +135,8 @@ def run_inpaint(config: InpaintConfig) -> dict:
     grow = dilation_px(config.dilate, scene.cameras)
     with atomic_output_dir(out) as tmp_root:
         tmp = InpaintedLayout(tmp_root)
-        job = _ViewJob(inpainter, grow, prompt, direct, plane, removed, holes, tmp, config.keep)
+        shield = round(config.shield * float(np.median([c.width for c in scene.cameras])))
+        job = _ViewJob(inpainter, grow, prompt, direct, plane, removed, holes, tmp, config.keep, shield)
         views = [(scene.images[i], scene.cameras[i]) for i in range(len(scene.cameras))]
         progress = Progress(f"inpaint {config.inpainter}", len(scene.cameras))
         for done, (i, row) in enumerate(_each_view(job, views, workers, parallel), start=1):
@@ -188,12 +193,13 @@ class _ViewJob:
     holes: HolesLayout
     out: InpaintedLayout
     keep: float = 0.0
+    shield: int = 0
 
     def __call__(self, image: np.ndarray, camera: Camera) -> np.ndarray | None:
         """Fill one view and write it under `out`; its contact sheet row, or None if it has no hole."""
         if not self.direct:
             return _fill_hole(self.inpainter, self.dilate, self.prompt, image, camera, self.plane, self.removed,
-                              self.holes, self.out, self.keep)
+                              self.holes, self.out, self.keep, self.shield)
         # the direct baseline: the object painted out of the input image (its region), RGB only
         uses_mask = self.inpainter.uses_mask
         region = dilate(_direct_region(self.removed, camera.name), self.dilate) if uses_mask else None
@@ -277,20 +283,27 @@ def _direct_region(removed: RemovedLayout, name: str) -> np.ndarray:
 
 def _fill_hole(inpainter, dilation: int, prompt: str | None, image: np.ndarray, camera: Camera,
                plane: tuple[np.ndarray, float] | None, removed: RemovedLayout, holes: HolesLayout,
-               out: InpaintedLayout, keep: float = 0.0) -> np.ndarray | None:
+               out: InpaintedLayout, keep: float = 0.0, shield: int = 0) -> np.ndarray | None:
     """Inpaint one view's hole in the removed render, RGB and depth; its sheet row, or None if no hole.
     With `keep` above 0 the render stays (colour and depth) where it already looks like the hole's surroundings
     (engine.inpaint.keep); the sheet's hole shows what was filled.
 
     The depth fill stops at the support plane `remove` found: an inpainter fills depth from the hole's
     border, which takes in the floor or backdrop seen past the table's edge (statue: median 9% and up to
-    2.2x deeper than the slab top), and FT's new Gaussians and Ref's carried fill are placed by it."""
+    2.2x deeper than the slab top), and FT's new Gaussians and Ref's carried fill are placed by it.
+
+    With `shield` (px) what stands on that plane within it of the hole (another object beside the removed one, a
+    remnant on its edge: engine.edit.support_plane.standing_on) is filled with the hole and then put back, so the
+    inpainter reads the hole's colours from the support alone: an inpainter fills from the hole's border, and an
+    orange beside the removed object ran into the livingroom_s100 fill as orange streaks (2f7158c)."""
     name = camera.name
     rgb = read_png(removed.images / name)
     depth = read_depth(removed.depth / exr_name(name))
     hole = dilate(read_png(holes.mask(name), kind="mask") > 0, dilation)
-    filled = inpainter.inpaint(rgb, hole, "rgb", prompt)
-    filled_depth = inpainter.inpaint(depth, hole, "depth", prompt)
+    shielded = _shielded(camera, hole, depth, plane, shield)
+    filled = inpainter.inpaint(rgb, hole | shielded, "rgb", prompt)
+    filled_depth = inpainter.inpaint(depth, hole | shielded, "depth", prompt)
+    filled[shielded], filled_depth[shielded] = rgb[shielded], depth[shielded]
     if plane is not None and hole.any():
         filled_depth = stop_at_plane(camera, hole, filled_depth, plane, 0.0)
     kept = like_ring(rgb, hole, keep) & np.isfinite(depth)
@@ -299,6 +312,14 @@ def _fill_hole(inpainter, dilation: int, prompt: str | None, image: np.ndarray, 
     write_png(out.images / name, filled)
     write_depth(out.depth / exr_name(name), filled_depth)
     return _sheet_row(image, rgb, hole & ~kept, filled, filled_depth, name) if hole.any() else None
+
+
+def _shielded(camera: Camera, hole: np.ndarray, depth: np.ndarray, plane: tuple[np.ndarray, float] | None,
+              px: int) -> np.ndarray:
+    """The pixels within `px` of the hole, outside it, that stand on the support plane (none without a plane)."""
+    if px <= 0 or plane is None or not hole.any():
+        return np.zeros_like(hole)
+    return standing_on(camera, dilate(hole, px) & ~hole, depth, plane, SHIELD_TOL)
 
 
 def _sheet_row(image, removed, hole, filled, filled_depth, name) -> np.ndarray:

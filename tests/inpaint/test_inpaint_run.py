@@ -168,3 +168,39 @@ def test_keep_leaves_the_render_where_it_looks_like_the_surroundings(stages):
         filled_any |= bool(((kept == plain).all(-1) & (plain != removed).any(-1)).any())
         assert ((kept == removed).all(-1) | (kept == plain).all(-1)).all()
     assert kept_any and filled_any
+
+
+def test_what_stands_on_the_support_beside_the_hole_gives_the_fill_no_colour(tmp_path):
+    """--shield: a red object standing in front of a grey wall right beside the hole is no source for the fill:
+    the hole takes the wall's grey alone and the object stays as rendered. Without it telea runs red into the hole
+    (the orange streaks in livingroom_s100's fill, 2f7158c)."""
+    from engine.formats.cameras import Camera
+    from engine.formats.layout import HolesLayout
+    from engine.inpaint.run import _fill_hole
+    from engine.io.image_io import write_depth, write_png
+
+    w, h = 64, 48
+    camera = Camera(name="v.png", width=w, height=h, fx=60.0, fy=60.0, cx=w / 2, cy=h / 2, R=np.eye(3),
+                    t=np.zeros(3))
+    wall = (np.array([0.0, 0.0, 1.0]), -4.0)  # z = 4, facing the camera
+    rgb = np.full((h, w, 3), 120, np.uint8)
+    depth = np.full((h, w), 4.0, np.float32)
+    hole = np.zeros((h, w), bool)
+    hole[18:30, 22:34] = True
+    standing = np.zeros((h, w), bool)
+    standing[16:32, 34:40] = True  # right beside the hole, two units nearer than the wall
+    rgb[standing], depth[standing] = (230, 20, 20), 2.0
+    removed, holes = RemovedLayout(tmp_path / "removed"), HolesLayout(tmp_path / "holes")
+    write_png(removed.images / "v.png", rgb)
+    write_depth(removed.depth / "v.exr", depth)
+    write_png(holes.mask("v.png"), hole.astype(np.uint8) * 255)
+    fills = {}
+    for shield in (0, 6):
+        out = InpaintedLayout(tmp_path / f"shield{shield}")
+        _fill_hole(create("telea"), 0, None, rgb, camera, wall, removed, holes, out, shield=shield)
+        fills[shield] = read_png(out.images / "v.png").astype(int)
+    redness = {s: (fill[..., 0] - fill[..., 2])[hole] for s, fill in fills.items()}
+    assert redness[0].max() > 40, redness[0].max()  # the plain fill runs red into the hole
+    assert redness[6].max() < 10, redness[6].max()  # the shielded one takes the wall's grey alone
+    assert (fills[6][standing] == rgb[standing]).all()  # the object stays as rendered
+    assert (fills[6][~hole & ~standing] == rgb[~hole & ~standing]).all()
