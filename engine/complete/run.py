@@ -134,8 +134,8 @@ def run_complete(config: CompleteConfig) -> dict:
 
 
 def leave_hole(config: CompleteConfig) -> dict:
-    """`--method ''` (LEFT), the default while no method beats the unfilled hole on the tuning scenes: nothing is
-    trained or written; the report names the removed scene, which is the result, and how to fill the hole."""
+    """`--method ''` (LEFT; the default before 2f7158c): nothing is trained or written; the report names the removed
+    scene, which is the result, and how to fill the hole."""
     run = load_run(config.run).layout
     removed = RemovedLayout(config.removed) if config.removed else run.removed
     if not removed.point_cloud.is_file():
