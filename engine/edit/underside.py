@@ -66,8 +66,7 @@ def find_underside(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarra
         return None
     site = Site.of(obj, plane)
     means = remaining["means"].numpy()
-    band, colour = _support_around(remaining, site, config, others)
-    across = np.linalg.norm(site.frame.flat(means) - site.centre, axis=1)
+    band, across, colour = _support_around(remaining, site, config, others)
     painted = (band & (across < config.underside_reach * site.radius)
                & (np.abs(site.frame.height(means)) > OFF_PLANE * site.radius))
     if colour is None or not painted.any():
@@ -78,16 +77,17 @@ def find_underside(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarra
 
 
 def _support_around(remaining: Gaussians, site: Site, config: EffectsConfig, others: np.ndarray | None
-                    ) -> tuple[np.ndarray, np.ndarray | None]:
-    """(N,) the support's Gaussians in the relights' band about the plane, and the trimmed mean base colour of
-    those in the ring just beyond the footprint (None with fewer than MIN_RING there)."""
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """(N,) the support's Gaussians in the relights' band about the plane, (N,) each Gaussian's distance across
+    the plane from the footprint's centre, and the trimmed mean base colour of the band's Gaussians in the ring just
+    beyond the footprint (None with fewer than MIN_RING there)."""
     means = remaining["means"].numpy()
     band = support_only(site.near_plane(means, config.band_below), others)
     across = np.linalg.norm(site.frame.flat(means) - site.centre, axis=1)
     ring = band & (across > RING[0] * site.radius) & (across < RING[1] * site.radius)
     if ring.sum() < MIN_RING:
-        return band, None
-    return band, trimmed_mean(colors_of(remaining)[ring])  # not medians: the ring's wood stripes
+        return band, across, None
+    return band, across, trimmed_mean(colors_of(remaining)[ring])  # not medians: the ring's wood stripes
 
 
 def find_unbuilt(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, float] | None,
@@ -101,7 +101,7 @@ def find_unbuilt(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray,
     if plane is None or len(obj) < 20 or config.underside_reach <= 0:
         return None
     site = Site.of(obj, plane)
-    band, colour = _support_around(remaining, site, config, others)
+    band, _, colour = _support_around(remaining, site, config, others)
     if colour is None:
         return None
     grid, frame = site.grid, site.frame

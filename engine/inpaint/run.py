@@ -72,7 +72,12 @@ def inpainted_dilation(inpainted: InpaintedLayout) -> int:
 def dilation_px(dilate: int, cameras: list[Camera]) -> int:
     """The px the masks grow by: `dilate` where it is given (0 or more), else GROW_SHARE of the views' median
     width (one number for the run: the completions read it back as one, inpainted_dilation)."""
-    return dilate if dilate >= 0 else round(GROW_SHARE * float(np.median([c.width for c in cameras])))
+    return dilate if dilate >= 0 else share_px(GROW_SHARE, cameras)
+
+
+def share_px(share: float, cameras: list[Camera]) -> int:
+    """`share` of the views' median width in pixels: one number for the run."""
+    return round(share * float(np.median([c.width for c in cameras])))
 
 
 def inpainted_holes(inpainted: InpaintedLayout) -> str:
@@ -135,8 +140,8 @@ def run_inpaint(config: InpaintConfig) -> dict:
     grow = dilation_px(config.dilate, scene.cameras)
     with atomic_output_dir(out) as tmp_root:
         tmp = InpaintedLayout(tmp_root)
-        shield = round(config.shield * float(np.median([c.width for c in scene.cameras])))
-        job = _ViewJob(inpainter, grow, prompt, direct, plane, removed, holes, tmp, config.keep, shield)
+        job = _ViewJob(inpainter, grow, prompt, direct, plane, removed, holes, tmp, config.keep,
+                       share_px(config.shield, scene.cameras))
         views = [(scene.images[i], scene.cameras[i]) for i in range(len(scene.cameras))]
         progress = Progress(f"inpaint {config.inpainter}", len(scene.cameras))
         for done, (i, row) in enumerate(_each_view(job, views, workers, parallel), start=1):
