@@ -1,5 +1,6 @@
 """The README's "Your own capture" on a folder of real photos, as written, timed stage by stage, and the pictures
-to look at: the segments sheet, removed views, completed views and a strip of turntable frames.
+to look at: the segments, holes and inpainting sheets, removed views, completed views under the removed render of
+the same views, and a strip of turntable frames.
 
     PYTHONPATH=. python benchmarks/capture_path.py PHOTOS WORK RESULTS
 
@@ -92,18 +93,31 @@ def main() -> int:
 
 def _pictures(run: RunLayout, complete: CompleteLayout | None, prefix: Path) -> None:
     quality = [cv2.IMWRITE_JPEG_QUALITY, 85]
-    if run.segments.sheet.is_file():
-        image = cv2.imread(str(run.segments.sheet))
-        cv2.imwrite(f"{prefix}_segments.jpg", cv2.resize(image, (WIDTH // 2, round(image.shape[0] * WIDTH / 2 /
-                                                                                     image.shape[1]))), quality)
+    sheets = [("segments", run.segments.sheet), ("holes", run.holes.sheet),
+              *(("inpainted", p) for p in sorted(run.root.glob("inpainted/*/sheet_test.png"))[:1])]
+    for what, sheet in sheets:
+        if sheet.is_file():
+            image = cv2.imread(str(sheet))
+            cv2.imwrite(f"{prefix}_{what}.jpg", cv2.resize(image, (WIDTH // 2, round(image.shape[0] * WIDTH / 2 /
+                                                                                      image.shape[1]))), quality)
     if run.removed.images.is_dir():
         cv2.imwrite(f"{prefix}_removed.jpg", strip(pick(run.removed.images, 6)), quality)
     if complete is not None:
-        cv2.imwrite(f"{prefix}_completed.jpg", strip(pick(complete.renders, 6)), quality)
+        cv2.imwrite(f"{prefix}_completed.jpg", before_after(run.removed.images, complete.renders), quality)
         videos = sorted(complete.root.glob("*/*.mp4"))
         frames = turntable_frames(videos[0], 4) if videos else []
         if frames:
             cv2.imwrite(f"{prefix}_turntable.jpg", strip(frames), quality)
+
+
+def before_after(removed: Path, completed: Path, count: int = 4) -> np.ndarray:
+    """The completed views (below) under the removed scene's render of the same views (above): what completion
+    changed, including any blur the removed scene did not have, is seen by looking down a column."""
+    files = sorted(completed.iterdir())
+    files = [files[k] for k in np.linspace(0, len(files) - 1, min(count, len(files))).astype(int)]
+    rows = [[cv2.imread(str(removed / f.name)) for f in files if (removed / f.name).is_file()],
+            [cv2.imread(str(f)) for f in files if (removed / f.name).is_file()]]
+    return np.concatenate([strip(row) for row in rows], 0) if rows[0] else strip([cv2.imread(str(f)) for f in files])
 
 
 def _gpu() -> str | None:
