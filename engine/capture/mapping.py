@@ -95,9 +95,6 @@ def _run(attempt: str, database: Path, images: Path, out: Path, threads: int, to
 
     shutil.rmtree(out, ignore_errors=True)
     out.mkdir(parents=True)
-    # COLMAP draws from one process-wide generator besides the options' seed: whatever ran before in the same
-    # process (another capture, a test) changed what the mappers placed (2 or 9 photos for the same seed options)
-    pycolmap.set_random_seed(seed + (attempt == "global-reseeded"))
     if attempt.startswith("global"):  # GLOMAP takes no cancellation token: a stop waits for it to finish
         options = pycolmap.GlobalPipelineOptions()
         options.num_threads, options.random_seed = threads, seed + (attempt == "global-reseeded")
