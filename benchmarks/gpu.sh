@@ -28,6 +28,8 @@
 #   inpaint PHOTOS [VIEWS]         benchmarks/inpaint_speed.py: seconds per 1 MP view, every offline inpainter ("Inpainting")
 #   subject SCENE...               train, segment --auto (scored by benchmarks/segments.py), remove object_1, holes:
 #                                  the subject found and removed without masks                  ("Objects without masks")
+#   subject-inputs PHOTOS...       the README's capture, train and segment --auto on real photos, then
+#                                  benchmarks/subject_inputs.py: what the subject was chosen from, as an npz to study here
 #   judge SCENE [REMOVE FLAGS]     base run, remove (with the flags), holes and a variant of them (JUDGE_VARIANT),
 #                                  each inpainted (JUDGE_INPAINTER) and completed by Ref; scored by removal_score.py,
 #                                  hole_error.py and leftovers.py                            ("Removal and its effects")
@@ -38,7 +40,7 @@
 #                                  to /tmp/gpu/out/NAME, its log to /tmp/gpu/NAME.log
 #   wait SECONDS                   until the detached runs end or SECONDS pass
 #   collect                        the detached runs' records (JSON, CSV, Markdown, text, pictures) as one file,
-#                                  $OUT/records.tgz, to fetch at once
+#                                  $OUT/records.tgz, to fetch at once, and their npz arrays beside it (seven at most)
 #   save-build                     gsplat's built extension into $OUT/gsplat_build.tgz (send it back as .gsplat_build/)
 #   wheels                         HERE, not on the GPU machine: download the wheels it lacks into .whl/ (17 MB,
 #                                  git-ignored); imageio-ffmpeg (68 MB, for turntable MP4s) goes through carry.py
@@ -132,6 +134,15 @@ case $name in
                python3 -m engine holes --run $R; } > $G/subject_$s.log 2>&1 || { tail -5 $G/subject_$s.log; continue; }
              cp $R/removed/removal.json $D/${s}_removal.json; cp $R/holes/holes.json $D/${s}_holes.json
              cp $R/segments/sheet.png $D/${s}_segments.png; python3 -c "import json,sys; r=json.load(open(sys.argv[1])); h=json.load(open(sys.argv[2])); print(sys.argv[3], 'removed', r['removed'], 'psnr outside true hole', r['psnr_outside_hole'], 'hole IoU', h['mean_iou_vs_truth'], 'unseen IoU', h['mean_unseen_iou_vs_truth'])" $D/${s}_removal.json $D/${s}_holes.json $s; done;;
+  subject-inputs) for p in "$@"; do n=$(basename $(dirname $p)); [ "$(basename $p)" = images ] || n=$(basename $p)
+             C=$G/diag/$n D=$(out subject-inputs); rm -rf $C
+             { python3 -m engine capture --images $p --out $C/capture && python3 -m engine train --scene $C/capture --out $C/run &&
+               python3 -m engine segment --run $C/run --auto &&
+               python3 benchmarks/subject_inputs.py $C/run $D/${n}_subject.npz; } > $G/subject_inputs_$n.log 2>&1 ||
+               { tail -5 $G/subject_inputs_$n.log; continue; }
+             cp $C/run/segments/segments.json $D/${n}_segments.json; cp $C/run/metrics.json $D/${n}_metrics.json
+             python3 -c "import cv2,sys; i=cv2.imread(sys.argv[1]); cv2.imwrite(sys.argv[2], cv2.resize(i, (500, round(i.shape[0] * 500 / i.shape[1]))))" \
+               $C/run/segments/sheet.png $D/${n}_segments.jpg; tail -n 1 $G/subject_inputs_$n.log; done;;
   matrix) s=(); while [ $# -gt 0 ] && [ "$1" != -- ]; do s+=("$(scene $1)"); shift; done; shift
           d=$(out matrix); python3 scripts/benchmark.py --scenes "${s[@]}" --out $G/matrix --device cuda "$@" 2>&1 | tail -n 30
           cp $G/matrix/*.md $G/matrix/*.csv $G/matrix/*.json $d/ 2>/dev/null; cp $G/matrix/*.png $d/ 2>/dev/null;;
@@ -158,7 +169,8 @@ case $name in
         while running && [ $(date +%s) -lt $end ]; do sleep 10; done
         running && echo "still running" || echo "all ended"; tail -n 3 $G/*.log 2>/dev/null;;
   collect) (cd $G/out && find . -type f \( -name '*.json' -o -name '*.csv' -o -name '*.md' -o -name '*.txt' -o -name '*.png' \
-             -o -name '*.jpg' \) -size -4M | tar czf $OUT/records.tgz -T -) && tar tzf $OUT/records.tgz | head -40;;
+             -o -name '*.jpg' \) -size -4M | tar czf $OUT/records.tgz -T -) && tar tzf $OUT/records.tgz | head -40
+           find $G/out -name '*.npz' -size -16M | head -n 7 | xargs -r cp -t $OUT/;;  # beside it: arrays to study here
   save-build) tar czf $OUT/gsplat_build.tgz -C $EXT gsplat_cuda && ls -la $OUT;;
-  *) sed -n '2,36p' "$0"; exit 2;;
+  *) awk 'NR > 1 && /^#/ { print; next } NR > 1 { exit }' "$0"; exit 2;;
 esac

@@ -1,0 +1,68 @@
+"""What `segment --auto` chose its subject from, saved small enough to carry home and study on a CPU.
+
+    python benchmarks/subject_inputs.py RUN OUT.npz [--device cuda]
+
+For a trained run, the inputs of engine.segment.saliency_votes.subject exactly as `segment --auto` computes them
+(the Gaussians' centres, opacities and base colours, the salient votes, the supports' `free` and `near`, the
+frame's up and the proposals' voxel), the proposals' ids and the subject it chose, in one compressed npz (about 6
+MB for 300,000 Gaussians; the run's PLY is 90). Why: the subject a real capture gets changes from one training to
+the next (the statue's figure alone at 709b800, the boulder with the figure's legs at 5b804af), and the GPU run's
+folder does not come back, so a different rule can only be judged on what it was chosen from.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+import torch
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from engine.base.device import pick_device  # noqa: E402
+from engine.formats.splat_ply import SH_C0  # noqa: E402
+from engine.geometry.scene_geometry import camera_frame, find_supports  # noqa: E402
+from engine.render.render_views import render_depths  # noqa: E402
+from engine.segment.proposals import propose  # noqa: E402
+from engine.segment.run import SegmentConfig  # noqa: E402
+from engine.segment.saliency_votes import salient_votes, subject, voting_views  # noqa: E402
+from engine.segment.salient import SalientNet  # noqa: E402
+from engine.train.trained_run import load_run  # noqa: E402
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("run")
+    parser.add_argument("out")
+    parser.add_argument("--device", default="auto")
+    args = parser.parse_args()
+    config, run = SegmentConfig(run=args.run, auto=True), load_run(args.run)
+    device = pick_device(args.device)
+    means = run.gaussians["means"].numpy()
+    opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
+    frame = camera_frame(run.scene.cameras)
+    supports = find_supports(means, opacity, frame, config)
+    ids, stats = propose(means, opacity, frame, supports, config)
+    views = voting_views(run.scene.train)
+    cameras = [run.scene.cameras[i] for i in views]
+    depths = render_depths(run.gaussians, cameras, run.sh_degree, device, "segment: depth")
+    votes, seen = salient_votes(means, cameras, [run.scene.images[i] for i in views], depths,
+                                SalientNet(config.salient_weights), config.rel_tol)
+    colours = np.clip(run.gaussians["sh0"][:, 0].numpy() * SH_C0 + 0.5, 0, 1)
+    voxel = stats.get("voxel") or config.voxel * frame.radius
+    solid = opacity >= config.solid
+    chosen, why = subject(votes, means, colours, solid, supports.free, supports.near, frame.up, voxel,
+                          config.min_vote)
+    np.savez_compressed(args.out, means=means.astype(np.float32), opacity=opacity.astype(np.float16),
+                        colours=colours.astype(np.float16), votes=votes.astype(np.float16),
+                        seen=seen.astype(np.uint8), free=supports.free, near=supports.near, solid=solid,
+                        up=np.asarray(frame.up, np.float64), voxel=np.float64(voxel), min_vote=config.min_vote,
+                        ids=ids.astype(np.uint8), chosen=chosen)
+    print(args.out, why, "chosen", int(chosen.sum()), "of", len(means))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
