@@ -54,7 +54,7 @@ def main() -> int:
     voxel = stats.get("voxel") or config.voxel * frame.radius
     solid = opacity >= config.solid
     chosen, why = subject(votes, means, colours, solid, supports.free, supports.near, frame.up, voxel,
-                          config.min_vote)
+                          config.min_vote, config.stack_gap)
     np.savez_compressed(args.out, means=means.astype(np.float32), opacity=opacity.astype(np.float16),
                         colours=colours.astype(np.float16), votes=votes.astype(np.float16),
                         seen=seen.astype(np.uint8), free=supports.free, near=supports.near, solid=solid,

@@ -266,7 +266,7 @@ def _salient_subject(run, ids: np.ndarray, opacity: np.ndarray, frame: Frame, su
     colours = np.clip(run.gaussians["sh0"][:, 0].numpy() * SH_C0 + 0.5, 0, 1)
     voxel = stats.get("voxel") or config.voxel * frame.radius
     chosen, why = subject(votes, means, colours, opacity >= config.solid, supports.free, supports.near, frame.up, voxel,
-                          config.min_vote)
+                          config.min_vote, config.stack_gap)
     if not chosen.any():
         return ids, None, why
     ids = ids.copy()

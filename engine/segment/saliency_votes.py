@@ -24,7 +24,8 @@ import torch
 from engine.base.knn import knn
 from engine.base.progress import Progress
 from engine.formats.cameras import Camera, project, sample_nearest
-from engine.geometry.scene_geometry import voxel_components
+from engine.geometry.scene_geometry import ProposalConfig, voxel_components
+from engine.segment.proposals import merge_stacked
 
 MAX_VIEWS = 24  # views voting: evenly spread over the training views (u2netp: about 0.1-0.5 s a view on a CPU)
 PEDESTAL_FOOTPRINT = 3.0  # a pedestal's footprint is at least this many times its subject's
@@ -72,10 +73,13 @@ def voting_views(train: list[int]) -> list[int]:
 
 
 def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np.ndarray, free: np.ndarray,
-            near: np.ndarray, up: np.ndarray, voxel: float, min_vote: float) -> tuple[np.ndarray, dict]:
+            near: np.ndarray, up: np.ndarray, voxel: float, min_vote: float,
+            stack_gap: float = ProposalConfig.stack_gap) -> tuple[np.ndarray, dict]:
     """(N,) bool: the Gaussians of the object the capture is about, and what was found. The salient Gaussians
     the geometry leaves free (off every support plane, engine.segment.proposals.find_supports), their largest
-    connected piece less a pedestal it stands on (`pedestal_cut`), then grown (`GROW` passes of `STEP` voxels)
+    connected piece (pieces stacked on one another within `stack_gap` voxels joined, as the proposals join them:
+    one statue capture's figure came apart at the waist, and its legs went with the boulder while the upper body
+    stayed) less a pedestal it stands on (`pedestal_cut`), then grown (`GROW` passes of `STEP` voxels)
     over the salient Gaussians touching it, faint ones and those within a plane's band too: a plaque mounted flat
     on a wall lies in the wall's band. A picture on the same wall votes as salient as the plaque; the wall between
     them does not, and a step no longer than a voxel does not cross it."""
@@ -84,7 +88,7 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
     if len(salient) == 0:
         return chosen, {"subject": None}
     voxel_of, label = voxel_components(means[salient], voxel)
-    part = label[voxel_of]
+    part = merge_stacked(means[salient], voxel_of, label, up, stack_gap * voxel)[voxel_of]
     members = salient[part == np.bincount(part).argmax()]
     cut = pedestal_cut(means[members], colours[members], up, voxel)
     if cut is not None:

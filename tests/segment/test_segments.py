@@ -18,7 +18,7 @@ from engine.io.image_io import read_png, write_png
 from engine.metrics.segment_scores import association_accuracy, iou, perturb_masks, proposal_scores
 from engine.segment.proposals import split_pieces
 from engine.segment.run import SegmentConfig, lift_masks, pieces_under, run_segment
-from engine.segment.saliency_votes import weak_evidence
+from engine.segment.saliency_votes import subject, weak_evidence
 from engine.train.trained_run import load_run, load_run_scene
 from tests.conftest import setup_weight
 
@@ -184,6 +184,26 @@ def test_components_join_what_touches_and_nothing_else():
     voxel, label = voxel_components(blobs, 0.25)
     parts = label[voxel]
     assert len(set(parts[:500])) == 1 and len(set(parts[500:])) == 1 and parts[0] != parts[-1]
+
+
+def test_a_figure_split_at_the_waist_is_one_subject_on_its_boulder():
+    """The statue capture at 5b804af: its figure's Gaussians came apart at the waist (a gap of 1.5 voxels), the legs
+    went with the boulder as the largest salient piece, and the upper body stayed in the scene. The pieces stacked on
+    one another are one: the whole figure is the subject, and the boulder a pedestal it stands on."""
+    rng = np.random.default_rng(0)
+    voxel, up = 0.1, np.array([0.0, 0.0, 1.0])
+
+    def box(low, high, count):
+        return rng.uniform(low, high, (count, 3))
+
+    boulder = box([-1.5, -1.5, 0.0], [1.5, 1.5, 1.0], 40000)
+    legs, body = box([-0.25, -0.25, 1.0], [0.25, 0.25, 1.8], 3000), box([-0.3, -0.3, 1.95], [0.3, 0.3, 3.0], 5000)
+    means = np.concatenate([boulder, legs, body])
+    colours = np.repeat([[0.8, 0.5, 0.5], [0.1, 0.3, 0.2], [0.1, 0.3, 0.2]], [40000, 3000, 5000], axis=0)
+    every = np.ones(len(means), bool)
+    chosen, why = subject(np.ones(len(means)), means, colours, every, every, every, up, voxel, 0.5)
+    figure = np.repeat([False, True, True], [40000, 3000, 5000])
+    assert why["pedestal"] and (chosen == figure).all(), (why, chosen[:40000].mean(), chosen[40000:].mean())
 
 
 def test_a_noisy_table_top_is_peeled_off_the_objects_on_it():
