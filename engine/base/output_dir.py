@@ -36,9 +36,13 @@ def atomic_output_dir(final: Path, replace: bool = False) -> Iterator[Path]:
     try:
         yield tmp
         old = final.parent / f".{final.name}.old-{os.getpid()}"
-        if final.exists():
-            final.rename(old)  # empty unless `replace`
-        tmp.rename(final)
+        if replace and final.exists():
+            final.rename(old)
+        try:  # onto nothing or an empty folder; a folder another process filled meanwhile stays as it is
+            tmp.rename(final)
+        except OSError as error:
+            raise InputError(f"{final} was written by another process while this one ran: its output is kept, "
+                             "this one's dropped; run again with a new folder") from error
         shutil.rmtree(old, ignore_errors=True)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

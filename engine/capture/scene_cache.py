@@ -10,6 +10,7 @@ import os
 from collections.abc import Callable
 from pathlib import Path
 
+from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import emit
 from engine.formats.colmap_files import find_model_dir
@@ -25,8 +26,12 @@ def cached_scene(root: Path, kind: str, build: Callable[[Path], None]) -> Path:
     if SceneLayout(cache).sparse.is_dir():
         return cache
     emit("scene-cache", scene=str(root), kind=kind, cache=str(cache))
-    with atomic_output_dir(cache) as tmp:
-        build(tmp)
+    try:
+        with atomic_output_dir(cache) as tmp:
+            build(tmp)
+    except InputError:  # two trainings of one scene at once: the first copy made is the one both read
+        if not SceneLayout(cache).sparse.is_dir():
+            raise
     return cache
 
 
