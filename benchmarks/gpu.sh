@@ -28,8 +28,8 @@
 #   inpaint PHOTOS [VIEWS]         benchmarks/inpaint_speed.py: seconds per 1 MP view, every offline inpainter ("Inpainting")
 #   subject SCENE...               train, segment --auto (scored by benchmarks/segments.py), remove object_1, holes:
 #                                  the subject found and removed without masks                  ("Objects without masks")
-#   subject-inputs PHOTOS...       the README's capture, train and segment --auto on real photos, then
-#                                  benchmarks/subject_inputs.py: what the subject was chosen from, as an npz to study here
+#   subject-inputs PHOTOS...       the README's capture, train (TRAIN_FLAGS added) and segment --auto on real photos,
+#                                  then benchmarks/subject_inputs.py: what the subject was chosen from, an npz to study here
 #   judge SCENE [REMOVE FLAGS]     base run, remove (with the flags), holes and a variant of them (JUDGE_VARIANT),
 #                                  each inpainted (JUDGE_INPAINTER) and completed by Ref; scored by removal_score.py,
 #                                  hole_error.py and leftovers.py                            ("Removal and its effects")
@@ -136,7 +136,7 @@ case $name in
              cp $R/segments/sheet.png $D/${s}_segments.png; python3 -c "import json,sys; r=json.load(open(sys.argv[1])); h=json.load(open(sys.argv[2])); print(sys.argv[3], 'removed', r['removed'], 'psnr outside true hole', r['psnr_outside_hole'], 'hole IoU', h['mean_iou_vs_truth'], 'unseen IoU', h['mean_unseen_iou_vs_truth'])" $D/${s}_removal.json $D/${s}_holes.json $s; done;;
   subject-inputs) for p in "$@"; do n=$(basename $(dirname $p)); [ "$(basename $p)" = images ] || n=$(basename $p)
              C=$G/diag/$n D=$(out subject-inputs); rm -rf $C
-             { python3 -m engine capture --images $p --out $C/capture && python3 -m engine train --scene $C/capture --out $C/run &&
+             { python3 -m engine capture --images $p --out $C/capture && python3 -m engine train --scene $C/capture --out $C/run $TRAIN_FLAGS &&
                python3 -m engine segment --run $C/run --auto &&
                python3 benchmarks/subject_inputs.py $C/run $D/${n}_subject.npz; } > $G/subject_inputs_$n.log 2>&1 ||
                { tail -5 $G/subject_inputs_$n.log; continue; }

@@ -249,9 +249,18 @@ class Trainer:
             if self.colours is not None:  # each view's photo's exposure and white balance
                 outs = [dataclasses.replace(out, rgb=self.colours(view, out.rgb))
                         for view, out in zip(views, outs, strict=True)]
+            if self.config.background == "random":
+                outs = [self._on_random_background(out) for out in outs]
         losses = [self.objective(self, view, out, target)
                   for view, out, target in zip(views, outs, targets, strict=True)]
         return outs, targets, losses
+
+    def _on_random_background(self, out):
+        """`out` over a colour drawn for this view and step: a photo's dark pixel is then matched only by opaque
+        Gaussians of that colour, never by seeing through to a black background (3DGS trainers' random
+        background; nerfstudio's splatfacto draws one by default)."""
+        colour = torch.rand(3, generator=self.generator).to(out.rgb.device, non_blocking=True)
+        return dataclasses.replace(out, rgb=out.rgb + (1.0 - out.alpha[..., None]) * colour)
 
     @property
     def fixed_count(self) -> int:
