@@ -77,9 +77,14 @@ def train(config: TrainConfig, resume: bool = False, plugins: dict | None = None
     `resume_hint` says how to continue after a cancel (a completion's run continues through `complete`)."""
     config = prepare_run(config, resume)
     run = Path(config.out)
-    scene = load_scene(config.scene, config.resolution)
-    if not scene.train:
-        raise InputError(f"{config.scene} has no training views: check split.json")
+    try:
+        scene = load_scene(config.scene, config.resolution)
+        if not scene.train:
+            raise InputError(f"{config.scene} has no training views: check split.json")
+    except InputError:
+        if not resume:  # a run that never started leaves nothing that refuses the same command once fixed
+            RunLayout(run).config_json.unlink(missing_ok=True)
+        raise
     device = pick_device(config.device)
     trainer = Trainer(config, scene, device, **(plugins or {}))
     source = latest_checkpoint(run) if resume else None

@@ -347,6 +347,20 @@ def test_a_run_records_its_scene_and_itself_as_absolute_paths(tmp_path: Path, mo
     assert saved["out"] == str(tmp_path / "run")
 
 
+def test_a_scene_that_fails_to_load_leaves_no_run_that_refuses_the_retry(tmp_path: Path):
+    """A scene that cannot be read (here: no COLMAP model; on the skull capture, a cache copy read while another
+    training replaced it) is one line, and the same command once the scene is fixed is not told that its run
+    folder already exists."""
+    from engine.train.run import prepare_run, train
+
+    (tmp_path / "cap").mkdir()
+    config = TrainConfig(scene=str(tmp_path / "cap"), out=str(tmp_path / "run"), device="cpu")
+    with pytest.raises(InputError, match="COLMAP"):
+        train(config)
+    assert not (tmp_path / "run" / "config.json").exists()
+    prepare_run(config, resume=False)  # the retry's start: no "already exists"
+
+
 def test_a_scene_without_masks_scores_identity_as_none_not_nan(tmp_path: Path):
     """A capture has no masks: metrics.json gets null (JSON has no NaN), not NaN."""
     from engine.capture.scene import Scene
