@@ -38,7 +38,9 @@ def atomic_output_dir(final: Path, replace: bool = False) -> Iterator[Path]:
         old = final.parent / f".{final.name}.old-{os.getpid()}"
         if replace and final.exists():
             final.rename(old)
-        try:  # onto nothing or an empty folder; a folder another process filled meanwhile stays as it is
+        elif final.is_dir() and not any(final.iterdir()):
+            final.rmdir()  # an empty folder given as the output (Windows renames onto nothing at all)
+        try:  # a folder another process filled meanwhile stays as it is
             tmp.rename(final)
         except OSError as error:
             raise InputError(f"{final} was written by another process while this one ran: its output is kept, "

@@ -47,3 +47,10 @@ def test_the_cache_copy_made_first_is_the_one_both_read(tmp_path: Path, monkeypa
     cache = cached_scene(scene, "resolution8", build)
     assert cache == first[0] and (cache / "sparse" / "theirs.txt").read_text() == "theirs"
     assert not (cache / "sparse" / "mine.txt").exists()
+
+
+def test_an_empty_folder_given_as_the_output_is_filled(tmp_path: Path):
+    (tmp_path / "out").mkdir()
+    with atomic_output_dir(tmp_path / "out") as tmp:
+        (tmp / "mine.txt").write_text("mine")
+    assert (tmp_path / "out" / "mine.txt").read_text() == "mine" and len(list(tmp_path.iterdir())) == 1
