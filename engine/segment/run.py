@@ -194,6 +194,8 @@ def run_segment(run, config: SegmentConfig) -> dict:
         objects = [SceneObject(int(i), f"object_{i}", False) for i in range(1, int(ids.max(initial=0)) + 1)]
         if config.auto and objects:
             stats["subject_share"] = round(float((ids == 1).mean()), 4)  # object_1's share of the scene's Gaussians
+            stats["solid_share"] = round(float((torch.sigmoid(run.gaussians["opacities"]) >= config.solid)
+                                               .float().mean()), 4)
             stats["weak_evidence"] = weak_evidence(stats) if config.salient else []
             for reason in stats["weak_evidence"]:
                 say(f"segment --auto: {reason}. Look at {out.sheet}; to pick the subject yourself, click it: "

@@ -115,10 +115,14 @@ def test_auto_finds_the_target_without_masks(run_copy: Path, tmp_path: Path):
 @pytest.mark.parametrize(("stats", "says"), [({"subject": None}, "no salient object"),
                                              ({"subject": "votes", "subject_share": 0.0128}, "1.3%"),
                                              ({"subject": "votes", "subject_share": 0.7776}, "78%"),
-                                             ({"subject": "votes", "subject_share": 0.1296}, None)])
+                                             ({"subject": "votes", "subject_share": 0.1296}, None),
+                                             ({"subject": "votes", "subject_share": 0.0049, "solid_share": 0.014},
+                                              "1.4% of the scene's Gaussians are opaque enough"),
+                                             ({"subject": "votes", "subject_share": 0.17, "solid_share": 0.38}, None)])
 def test_auto_says_when_its_subject_may_not_be_the_one(stats: dict, says: str | None):
     """The real captures' subjects: a patch of a plush toy's back (1.3% of the Gaussians), a skull with most of
-    its room (78%), the statue (13%, right)."""
+    its room (78%), the statue (13%, right); a skull whose model was mostly transparent (1.4% of its Gaussians
+    solid: whatever was found in it, the model is the problem)."""
     reasons = weak_evidence(stats)
     assert (reasons == []) if says is None else (len(reasons) == 1 and says in reasons[0]), reasons
 
