@@ -135,7 +135,7 @@ def pedestal_cut(points: np.ndarray, colours: np.ndarray, up: np.ndarray, voxel:
 
 SHARE_RANGE = (0.02, 0.5)  # a subject outside this share of the scene's Gaussians is worth a second look
 MIN_SOLID_SHARE = 0.05  # below this share of solid Gaussians the model did not fit its photos (skull capture:
-# 1.4%, median opacity 0, test PSNR 14.5 dB; the statue capture 38%, the tiny tuning runs 31-52%)
+# 1.4%, median opacity 0, test PSNR 14.5 dB; the statue capture 38%, tiny CPU trainings of the tuning scenes 31-52%)
 
 
 def weak_evidence(stats: dict) -> list[str]:
