@@ -135,6 +135,7 @@ case $name in
              cp $R/removed/removal.json $D/${s}_removal.json; cp $R/holes/holes.json $D/${s}_holes.json
              cp $R/segments/sheet.png $D/${s}_segments.png; python3 -c "import json,sys; r=json.load(open(sys.argv[1])); h=json.load(open(sys.argv[2])); print(sys.argv[3], 'removed', r['removed'], 'psnr outside true hole', r['psnr_outside_hole'], 'hole IoU', h['mean_iou_vs_truth'], 'unseen IoU', h['mean_unseen_iou_vs_truth'])" $D/${s}_removal.json $D/${s}_holes.json $s; done;;
   subject-inputs) for p in "$@"; do n=$(basename $(dirname $p)); [ "$(basename $p)" = images ] || n=$(basename $p)
+             [ -z "$TRAIN_FLAGS" ] || n=${n}_$(echo "$TRAIN_FLAGS" | tr -c 'A-Za-z0-9' '_' | tr -s _ | sed 's/^_//; s/_$//')
              C=$G/diag/$n D=$(out subject-inputs); rm -rf $C
              { python3 -m engine capture --images $p --out $C/capture && python3 -m engine train --scene $C/capture --out $C/run $TRAIN_FLAGS &&
                python3 -m engine segment --run $C/run --auto &&
@@ -160,8 +161,9 @@ case $name in
            python3 benchmarks/heldout_wall.py $d/start.txt $G/heldout $GPUS > $d/wall.json
            python3 benchmarks/merge_tables.py $d $G/heldout/*/results.json &&
              python3 -m engine chart --spec $d/speed_accuracy.json --out $d/speed_accuracy.png; cat $d/wall.json;;
-  start) tag=$(echo "$*" | tr -c 'A-Za-z0-9_' '_' | cut -c1-40)_$(echo "$*" | md5sum | cut -c1-6)  # one log and pid a
-         # job, several at once: the arguments' hash tells apart jobs whose first 40 characters agree
+  start) tag=$(echo "$*" | tr -c 'A-Za-z0-9_' '_' | cut -c1-40)_$(echo "$* $TRAIN_FLAGS" | md5sum | cut -c1-6)  # one
+         # log and pid a job, several at once: the hash of the arguments (and TRAIN_FLAGS) tells apart jobs whose
+         # first 40 characters agree
          RESULTS=$G/out setsid nohup bash benchmarks/gpu.sh "$@" > $G/$tag.log 2>&1 < /dev/null &
          echo $! > $G/$tag.pid; sleep 5; tail -n 3 $G/$tag.log;;
   wait) end=$(( $(date +%s) + ${1:-540} ))
