@@ -22,13 +22,10 @@ import torch
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from engine.base.device import pick_device  # noqa: E402
-from engine.formats.splat_ply import SH_C0  # noqa: E402
 from engine.geometry.scene_geometry import camera_frame, find_supports  # noqa: E402
-from engine.render.render_views import render_depths  # noqa: E402
 from engine.segment.proposals import propose  # noqa: E402
-from engine.segment.run import SegmentConfig  # noqa: E402
-from engine.segment.saliency_votes import salient_votes, subject, voting_views  # noqa: E402
-from engine.segment.salient import SalientNet  # noqa: E402
+from engine.segment.run import SegmentConfig, subject_evidence  # noqa: E402
+from engine.segment.saliency_votes import subject  # noqa: E402
 from engine.train.trained_run import load_run  # noqa: E402
 
 
@@ -45,13 +42,7 @@ def main() -> int:
     frame = camera_frame(run.scene.cameras)
     supports = find_supports(means, opacity, frame, config)
     ids, stats = propose(means, opacity, frame, supports, config)
-    views = voting_views(run.scene.train)
-    cameras = [run.scene.cameras[i] for i in views]
-    depths = render_depths(run.gaussians, cameras, run.sh_degree, device, "segment: depth")
-    votes, seen = salient_votes(means, cameras, [run.scene.images[i] for i in views], depths,
-                                SalientNet(config.salient_weights), config.rel_tol)
-    colours = np.clip(run.gaussians["sh0"][:, 0].numpy() * SH_C0 + 0.5, 0, 1)
-    voxel = stats.get("voxel") or config.voxel * frame.radius
+    votes, seen, colours, voxel = subject_evidence(run, frame, config, stats, device)
     solid = opacity >= config.solid
     chosen, why = subject(votes, means, colours, solid, supports.free, supports.near, frame.up, voxel,
                           config.min_vote, config.stack_gap)

@@ -194,8 +194,7 @@ def run_segment(run, config: SegmentConfig) -> dict:
         objects = [SceneObject(int(i), f"object_{i}", False) for i in range(1, int(ids.max(initial=0)) + 1)]
         if config.auto and objects:
             stats["subject_share"] = round(float((ids == 1).mean()), 4)  # object_1's share of the scene's Gaussians
-            stats["solid_share"] = round(float((torch.sigmoid(run.gaussians["opacities"]) >= config.solid)
-                                               .float().mean()), 4)
+            stats["solid_share"] = round(float((opacity >= config.solid).mean()), 4)
             stats["weak_evidence"] = weak_evidence(stats) if config.salient else []
             for reason in stats["weak_evidence"]:
                 say(f"segment --auto: {reason}. Look at {out.sheet}; to pick the subject yourself, click it: "
@@ -258,23 +257,29 @@ def _from_masks(run, means: np.ndarray, config: SegmentConfig, device: torch.dev
 def _salient_subject(run, ids: np.ndarray, opacity: np.ndarray, frame: Frame, supports: Supports,
                      config: SegmentConfig, stats: dict, device: torch.device) -> tuple[np.ndarray, int | None, dict]:
     """The proposals with the subject (engine.segment.saliency_votes) as an object of its own, its id, and why."""
-    scene: Scene = run.scene
-    views = voting_views(scene.train)
-    cameras = [scene.cameras[i] for i in views]
-    net = SalientNet(config.salient_weights)
-    depths = render_depths(run.gaussians, cameras, run.sh_degree, device, "segment: depth")
-    means = run.gaussians["means"].numpy()
-    votes, _ = salient_votes(means, cameras, [scene.images[i] for i in views], depths, net, config.rel_tol)
-    colours = np.clip(run.gaussians["sh0"][:, 0].numpy() * SH_C0 + 0.5, 0, 1)
-    voxel = stats.get("voxel") or config.voxel * frame.radius
-    chosen, why = subject(votes, means, colours, opacity >= config.solid, supports.free, supports.near, frame.up, voxel,
-                          config.min_vote, config.stack_gap)
+    votes, _, colours, voxel = subject_evidence(run, frame, config, stats, device)
+    chosen, why = subject(votes, run.gaussians["means"].numpy(), colours, opacity >= config.solid, supports.free,
+                          supports.near, frame.up, voxel, config.min_vote, config.stack_gap)
     if not chosen.any():
         return ids, None, why
     ids = ids.copy()
     first = int(ids.max()) + 1
     ids[chosen] = first
     return ids, first, why
+
+
+def subject_evidence(run, frame: Frame, config: SegmentConfig, stats: dict, device: torch.device
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """What `subject` chooses from besides the supports: per Gaussian its salient vote, how many views saw it and
+    its base colour, and the voxel (the proposals' `stats`, else the config's share of the orbit)."""
+    scene: Scene = run.scene
+    views = voting_views(scene.train)
+    cameras = [scene.cameras[i] for i in views]
+    depths = render_depths(run.gaussians, cameras, run.sh_degree, device, "segment: depth")
+    votes, seen = salient_votes(run.gaussians["means"].numpy(), cameras, [scene.images[i] for i in views], depths,
+                                SalientNet(config.salient_weights), config.rel_tol)
+    colours = np.clip(run.gaussians["sh0"][:, 0].numpy() * SH_C0 + 0.5, 0, 1)
+    return votes, seen, colours, stats.get("voxel") or config.voxel * frame.radius
 
 
 def segments_sheet(scene: Scene, masks: list[np.ndarray], objects: list[SceneObject], views: int = 4
