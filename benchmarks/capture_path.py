@@ -78,8 +78,8 @@ def main() -> int:
     run = RunLayout(work / "run")
     record = {"capture": name, "commit": code_commit(), "gpu": _gpu(), "seconds": seconds,
               "total_seconds": round(sum(seconds.values()), 1), "commands": readme_commands()}
-    for key, path in (("capture_report", CaptureLayout(work / "capture").report), ("segments", run.segments.report),
-                      ("removal", run.removed.report)):
+    for key, path in (("capture_report", CaptureLayout(work / "capture").report), ("train", run.metrics_json),
+                      ("segments", run.segments.report), ("removal", run.removed.report)):
         if path.is_file():
             data = json.loads(path.read_text())
             record[key] = {k: v for k, v in data.items() if k != "config"}

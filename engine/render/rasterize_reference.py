@@ -19,15 +19,19 @@ ALPHA_THRESHOLD = 1.0 / 255.0
 TILE = 16
 
 
-def quat_scale_to_covar(quats: torch.Tensor, scales: torch.Tensor) -> torch.Tensor:
-    """(N, 3, 3) covariances from quaternions (N, 4) w, x, y, z and (activated) scales (N, 3)."""
+def quat_rotations(quats: torch.Tensor) -> torch.Tensor:
+    """(N, 3, 3) rotations of quaternions (N, 4) w, x, y, z, normalised as gsplat does; columns are the axes."""
     w, x, y, z = F.normalize(quats, dim=-1).unbind(-1)
-    rot = torch.stack([
+    return torch.stack([
         1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
         2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
         2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y),
     ], dim=-1).reshape(-1, 3, 3)
-    m = rot * scales[:, None, :]
+
+
+def quat_scale_to_covar(quats: torch.Tensor, scales: torch.Tensor) -> torch.Tensor:
+    """(N, 3, 3) covariances from quaternions (N, 4) w, x, y, z and (activated) scales (N, 3)."""
+    m = quat_rotations(quats) * scales[:, None, :]
     return m @ m.transpose(1, 2)
 
 

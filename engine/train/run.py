@@ -142,6 +142,7 @@ def _finish(trainer: Trainer, scene, run: Path) -> dict:
                    device=str(trainer.device), gpu=gpu_name(trainer.device), versions=versions(),
                    peak_gpu_mb=(round(torch.cuda.max_memory_allocated() / 2**20, 1)
                                 if trainer.device.type == "cuda" else None))
+    metrics["camera_holders"] = int(trainer.camera_holders)  # Gaussians emptied for holding a camera
     if trainer.colours is not None:  # how far the photos' exposures strayed (the scene renders without them)
         metrics["view_colours"] = trainer.colours.report()
     _write_json(RunLayout(run).metrics_json, metrics)

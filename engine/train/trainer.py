@@ -25,6 +25,7 @@ from engine.io.gaussians import PARAM_NAMES, Gaussians, concat, init_from_points
 from engine.metrics.image_metrics import psnr_from_mse
 from engine.render.rasterize import CameraTensors, render_views
 from engine.train.adam_step import AdamState, adam_step
+from engine.train.camera_clearance import empty_camera_holders
 from engine.train.config import TrainConfig
 from engine.train.identity_regularizer import IdentityRegularizer
 from engine.train.photometric_loss import photometric_loss
@@ -168,6 +169,9 @@ class Trainer:
                                                weight=config.reg3d_weight, pool_size=config.reg3d_pool,
                                                refresh_every=config.reg3d_refresh)
         self.cameras = [CameraTensors.from_camera(c, device) for c in scene.cameras]
+        self.camera_centres = torch.as_tensor(np.stack([scene.cameras[i].center for i in self.train_views]),
+                                              dtype=torch.float32, device=device)
+        self.camera_holders = torch.zeros((), dtype=torch.long, device=device)  # emptied so far (camera_clearance)
         self.images = {i: torch.as_tensor(scene.images[i], device=device) for i in scene.train}
         self.masks = ({i: torch.as_tensor(scene.masks[i], device=device).long() for i in scene.train}
                       if scene.masks is not None else None)
@@ -231,6 +235,8 @@ class Trainer:
             if self.colours is not None:
                 self.colours.recentre()
         with part("strategy"):  # MCMC (the only strategy at several views a step) reads no view's info
+            if step % self.config.refine_every == 0 or step + 1 == self.config.steps:  # before it relocates or
+                self.camera_holders += empty_camera_holders(self.params, self.camera_centres)  # prunes; at the end
             self.strategy.after_backward(self.params, self.optimizers, self.strategy_state, step,
                                          trained_part(out.info, self.fixed_count), lr)
         self.step_index += 1
@@ -300,6 +306,7 @@ class Trainer:
             "python_rng": random.getstate(), "regularizer": self.regularizer.state_dict(),
             "fixed": self.fixed_count, "objective": type(self.objective).__name__,
             "colours": None if self.colours is None else self.colours.state_dict(),
+            "camera_holders": int(self.camera_holders),
         }
 
     def load_state_dict(self, state: dict) -> None:
@@ -324,6 +331,7 @@ class Trainer:
         self.strategy_state = {k: (v.to(self.device) if torch.is_tensor(v) else v)
                                for k, v in state["strategy_state"].items()}
         self.order = list(state["order"])
+        self.camera_holders.fill_(state.get("camera_holders", 0))
         self.views.bit_generator.state = state["views_rng"]
         self.generator.set_state(state["generator"])
         torch.set_rng_state(state["torch_rng"])
