@@ -62,8 +62,9 @@ class TrainConfig:
     fused_ssim: bool = False  # the SSIM term by the fussim package's CUDA kernel (a measured lead; CUDA only)
     views_per_step: int = 0  # views a step, losses averaged (MCMC only); 0: 4 at the default steps and a budget, else 1
     colour_correction: str = "off"  # off | gain | affine: a correction per training view (engine.train.view_colours)
-    # with black, transparency matched the dark skull capture's photos on an H200 (median opacity 0, test PSNR 14.5);
-    # random: only opacity can. On the CPU at 1/8 size (1,500 steps, 30k budget) random lost: 18.98 against 23.28 dB
+    # random: a dark photo is matched only by opacity, never by seeing through. On the CPU at 1/8 size (1,500 steps,
+    # 30k budget) it lost, 18.98 against 23.28 dB; the skull capture's 14.5 dB on an H200 was Gaussians holding the
+    # cameras (engine.train.camera_clearance: 20.57 dB with black), not its transparency
     background: str = "black"  # black | random: behind the Gaussians in a training view (random: a colour a view)
     lr_colours: float = 1e-3  # learning rate of the per-view colour corrections
     identity_weight: float = 1.0  # weight of the identity cross-entropy (divided by log of the class count)
