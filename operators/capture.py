@@ -150,14 +150,17 @@ def selection_box(objects: list[bpy.types.Object], frame: bpy.types.Object | Non
 class SPLATFILL_OT_clean_up(EngineOperator, bpy.types.Operator):
     bl_idname = "splatfill.clean_up"
     bl_label = "Clean Up"
-    bl_description = ("Delete stray Gaussians at once (faint, huge, far from the subject, or outside a selected "
-                      "mesh's bounds) into a new run that replaces the active one in the view; no relighting")
+    bl_description = ("Delete stray Gaussians at once (faint, huge, far from the subject, around the cameras, or "
+                      "outside a selected mesh's bounds) into a new run that replaces the active one in the view; "
+                      "no relighting")
     min_opacity: bpy.props.FloatProperty(name="Min opacity", default=0.05, min=0.0, max=1.0)
     max_size: bpy.props.FloatProperty(name="Max size", default=0.0, min=0.0, description="largest standard "
                                       "deviation kept, scene units (0: any)")
     max_distance: bpy.props.FloatProperty(name="Max distance", default=0.0, min=0.0, description="from the "
                                           "subject (object_1, else where the cameras look), scene units (0: any)")
     crop: bpy.props.BoolProperty(name="Crop to the selected mesh", default=False)
+    around_cameras: bpy.props.BoolProperty(name="Around the cameras", default=False, description="also delete "
+                                           "those that hold a camera (a flat colour over whole views)")
 
     def invoke(self, context, event):
         return context.window_manager.invoke_props_dialog(self)
@@ -168,6 +171,8 @@ class SPLATFILL_OT_clean_up(EngineOperator, bpy.types.Operator):
         self._out = run.parent / f"{run.name}-clean-{stamp()}"
         args = ["clean", "--run", str(run), "--out", str(self._out), "--min-opacity", str(self.min_opacity),
                 "--max-size", str(self.max_size), "--max-distance", str(self.max_distance)]
+        if self.around_cameras:
+            args.append("--around-cameras")
         if self.crop:
             frame = next((o for o in c.objects if "splatfill_frame" in o), None)
             box = selection_box([o for o in context.selected_objects if "splatfill_group" not in o], frame)

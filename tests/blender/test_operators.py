@@ -70,13 +70,14 @@ def test_clean_up_deletes_faint_gaussians_into_a_new_run_and_runs_again(run: Pat
     original = bpy.data.collections[run.name]
     bpy.context.view_layer.objects.active = original.objects[0]
     before = set(run.parent.glob(f"{run.name}-clean-*"))
-    for _ in range(2):
+    for around in (False, True):  # the second also deletes what holds a camera of the run's scene
         bpy.context.view_layer.objects.active = original.objects[0]
-        assert bpy.ops.splatfill.clean_up(min_opacity=0.5) == {"FINISHED"}
+        assert bpy.ops.splatfill.clean_up(min_opacity=0.5, around_cameras=around) == {"FINISHED"}
     made = sorted(set(run.parent.glob(f"{run.name}-clean-*")) - before)
     assert len(made) == 2 and original.hide_viewport
     report = json.loads((made[0] / "clean.json").read_text())
     assert 0 < report["deleted"] < report["before"] and report["by_rule"]["opacity"] == report["deleted"]
+    assert "around_cameras" in json.loads((made[1] / "clean.json").read_text())["by_rule"]
     assert _vertices(bpy.data.collections[made[0].name]) == report["before"] - report["deleted"]
 
 

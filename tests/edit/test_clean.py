@@ -59,3 +59,29 @@ def test_clean_from_the_command_line_and_its_one_line_errors(tmp_path: Path):
     assert main(["clean", "--run", str(run.root)]) == 2  # no rule given
     with pytest.raises(InputError, match="delete all 10"):
         run_clean(CleanConfig(run=str(run.root), crop=[100, 100, 100, 101, 101, 101], out=str(tmp_path / "none")))
+
+
+def test_around_cameras_deletes_the_gaussians_that_hold_a_camera_of_the_scene(tmp_path: Path):
+    """Gaussian 5 (std e^2 = 7.4 along x, centred at the origin) holds a camera 3 from the origin; none of the
+    small ones does. With the rule turned off the same run keeps all ten."""
+    from engine.formats.cameras import Camera
+    from engine.io.colmap_model import ColmapModel, write_model
+
+    run = hand_made_run(tmp_path / "run")
+    camera = Camera(name="a.png", width=64, height=48, fx=50.0, fy=50.0, cx=32.0, cy=24.0, R=np.eye(3),
+                    t=np.array([0.0, 0.0, 3.0]))  # centre (0, 0, -3), looking along +z at the origin
+    points = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    write_model(tmp_path / "scene" / "sparse" / "0", ColmapModel([camera], points, np.full((3, 3), 128, np.uint8)))
+    run.config_json.write_text(json.dumps({"scene": str(tmp_path / "scene")}))
+    with pytest.raises(InputError, match="nothing to clean"):
+        run_clean(CleanConfig(run=str(run.root), out=str(tmp_path / "none")))
+    report = run_clean(CleanConfig(run=str(run.root), around_cameras=True))
+    assert report["by_rule"] == {"around_cameras": 0}  # the huge one reaches 7.4 x 3 along x, not 3 along z
+    vertices = read_splat_file(run.point_cloud)
+    columns = {name: np.array(vertices[name]) for name in vertices.dtype.names}
+    columns["scale_2"][5] = 2.0  # now as long along z: the camera lies at 0.4 sigma
+    write_vertices(run.point_cloud, columns)
+    report = run_clean(CleanConfig(run=str(run.root), out=str(tmp_path / "cleaned"), around_cameras=True))
+    assert report["by_rule"] == {"around_cameras": 1}
+    kept = read_splat_file(tmp_path / "cleaned" / "point_cloud.ply")
+    assert len(kept) == 9 and 2.0 not in kept["scale_2"]
