@@ -46,3 +46,13 @@ def empty_camera_holders(params, centres: torch.Tensor) -> torch.Tensor:
     opacities = params["opacities"].data
     opacities.masked_fill_(held.reshape(opacities.shape), EMPTY_LOGIT)
     return held.sum()
+
+
+@torch.no_grad()
+def holders_of(gaussians, centres: torch.Tensor, floor: float = 0.005) -> list[int]:
+    """Per camera centre (C, 3), how many Gaussians above opacity `floor` hold it: the test views' count says
+    whether what covers a test view is such a Gaussian (one the training views' clearance cannot see), without
+    changing the scene."""
+    live = torch.sigmoid(gaussians["opacities"].flatten()) > floor
+    return [int((holding_cameras(gaussians["means"], gaussians["quats"], gaussians["scales"], centre[None]) & live)
+                .sum()) for centre in centres.to(gaussians["means"])]

@@ -26,6 +26,7 @@ from engine.capture.scene import load_scene
 from engine.formats.layout import RunLayout
 from engine.io.ply_io import save_classifier, save_ply
 from engine.metrics.evaluate import evaluate_views
+from engine.train.camera_clearance import holders_of
 from engine.train.config import TrainConfig
 from engine.train.trainer import Trainer
 
@@ -129,6 +130,13 @@ def _synchronize(device: torch.device) -> None:
         torch.cuda.synchronize(device)
 
 
+def _test_view_holders(trainer: Trainer, scene) -> dict[str, int]:
+    """Per test view, the live Gaussians that hold its camera (engine.train.camera_clearance.holders_of)."""
+    views = [scene.cameras[i] for i in scene.test]
+    centres = torch.as_tensor([camera.center for camera in views], dtype=torch.float32).reshape(-1, 3)
+    return dict(zip((camera.name for camera in views), holders_of(trainer.gaussians, centres), strict=True))
+
+
 def _finish(trainer: Trainer, scene, run: Path) -> dict:
     save_checkpoint(run, trainer, trainer.config.keep_checkpoints)
     save_ply(RunLayout(run).point_cloud, trainer.gaussians)
@@ -142,7 +150,8 @@ def _finish(trainer: Trainer, scene, run: Path) -> dict:
                    device=str(trainer.device), gpu=gpu_name(trainer.device), versions=versions(),
                    peak_gpu_mb=(round(torch.cuda.max_memory_allocated() / 2**20, 1)
                                 if trainer.device.type == "cuda" else None))
-    metrics["camera_holders"] = int(trainer.camera_holders)  # Gaussians emptied for holding a camera
+    metrics["camera_holders"] = int(trainer.camera_holders)  # Gaussians emptied for holding a training camera
+    metrics["test_view_holders"] = _test_view_holders(trainer, scene)
     if trainer.colours is not None:  # how far the photos' exposures strayed (the scene renders without them)
         metrics["view_colours"] = trainer.colours.report()
     _write_json(RunLayout(run).metrics_json, metrics)

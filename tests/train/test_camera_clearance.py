@@ -56,3 +56,13 @@ def test_training_leaves_no_gaussian_around_a_training_camera(living_scene: Path
     held = holding_cameras(params["means"], params["quats"], params["scales"], centres)
     assert not (held & (torch.sigmoid(params["opacities"].flatten()) > 0.005)).any()
     assert int(trainer.camera_holders) >= 1
+
+
+def test_holders_of_counts_the_live_gaussians_around_each_camera():
+    """Two Gaussians around the origin, one opaque and one emptied: a camera at the origin is held once, one far
+    off by none."""
+    from engine.train.camera_clearance import EMPTY_LOGIT, holders_of
+
+    gaussians = {"means": torch.zeros(2, 3), "quats": torch.tensor([[1.0, 0, 0, 0]] * 2),
+                 "scales": torch.zeros(2, 3), "opacities": torch.tensor([2.0, EMPTY_LOGIT])}
+    assert holders_of(gaussians, torch.tensor([[0.0, 0.0, 0.5], [10.0, 0.0, 0.0]])) == [1, 0]
