@@ -29,7 +29,7 @@ from engine.formats.splat_files import read_splat_file
 from engine.formats.splat_ply import write_vertices
 from engine.geometry.scene_geometry import camera_frame
 from engine.io.colmap_model import read_model
-from engine.train.camera_clearance import holding_cameras
+from engine.train.camera_clearance import centres_of, holding_cameras
 
 
 @dataclass
@@ -47,7 +47,7 @@ class CleanConfig:
 
 
 def deletions(vertices: np.ndarray, means: np.ndarray, config: CleanConfig, subject: np.ndarray | None,
-              cameras: np.ndarray | None = None) -> dict[str, np.ndarray]:
+              cameras: torch.Tensor | None = None) -> dict[str, np.ndarray]:
     """Per rule, the (N,) bool of the Gaussians (`vertices`, their centres `means`) it deletes; `cameras` (C, 3)
     the scene's camera centres, which `around_cameras` needs."""
     rules = {}
@@ -71,7 +71,7 @@ def deletions(vertices: np.ndarray, means: np.ndarray, config: CleanConfig, subj
             torch.as_tensor(means, dtype=torch.float32),
             torch.as_tensor(np.stack([vertices[f"rot_{i}"] for i in range(4)], 1), dtype=torch.float32),
             torch.as_tensor(np.stack([vertices[f"scale_{i}"] for i in range(3)], 1), dtype=torch.float32),
-            torch.as_tensor(cameras, dtype=torch.float32)).numpy()
+            cameras).numpy()
     if not rules:
         raise InputError("nothing to clean: give --min-opacity, --max-size, --max-distance, --crop or "
                          "--around-cameras")
@@ -116,9 +116,9 @@ def _subject(run: RunLayout, means: np.ndarray) -> np.ndarray:
     return camera_frame(_scene_cameras(run, "--max-distance needs its cameras or found objects")).center
 
 
-def _camera_centres(run: RunLayout) -> np.ndarray:
+def _camera_centres(run: RunLayout) -> torch.Tensor:
     """(C, 3) the centres of the cameras of the run's scene."""
-    return np.stack([camera.center for camera in _scene_cameras(run, "--around-cameras needs its cameras")])
+    return centres_of(_scene_cameras(run, "--around-cameras needs its cameras"))
 
 
 def _scene_cameras(run: RunLayout, why: str) -> list:

@@ -15,6 +15,7 @@ that project correctly. Only the training cameras are used: the test views' pose
 
 from __future__ import annotations
 
+import numpy as np
 import torch
 
 from engine.render.rasterize_reference import quat_rotations
@@ -22,6 +23,12 @@ from engine.render.rasterize_reference import quat_rotations
 SIGMAS = 3.0  # the rasterizer draws a Gaussian out to 3 sigma
 EMPTY_LOGIT = -12.0  # sigmoid: 6e-6, below MCMC's relocation floor and DefaultStrategy's pruning one (0.005)
 CHUNK = 65_536  # Gaussians tested at once (memory: CHUNK x cameras x 3)
+
+
+def centres_of(cameras, device: torch.device | str = "cpu") -> torch.Tensor:
+    """(C, 3) float32 the centres of `cameras` (engine.formats.cameras.Camera), (0, 3) for none."""
+    centres = np.asarray([camera.center for camera in cameras], dtype=np.float32).reshape(-1, 3)
+    return torch.as_tensor(centres, device=device)
 
 
 def holding_cameras(means: torch.Tensor, quats: torch.Tensor, log_scales: torch.Tensor, centres: torch.Tensor,

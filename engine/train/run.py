@@ -26,7 +26,7 @@ from engine.capture.scene import load_scene
 from engine.formats.layout import RunLayout
 from engine.io.ply_io import save_classifier, save_ply
 from engine.metrics.evaluate import evaluate_views
-from engine.train.camera_clearance import holders_of
+from engine.train.camera_clearance import centres_of, holders_of
 from engine.train.config import TrainConfig
 from engine.train.trainer import Trainer
 
@@ -133,8 +133,7 @@ def _synchronize(device: torch.device) -> None:
 def _test_view_holders(trainer: Trainer, scene) -> dict[str, int]:
     """Per test view, the live Gaussians that hold its camera (engine.train.camera_clearance.holders_of)."""
     views = [scene.cameras[i] for i in scene.test]
-    centres = torch.as_tensor([camera.center for camera in views], dtype=torch.float32).reshape(-1, 3)
-    return dict(zip((camera.name for camera in views), holders_of(trainer.gaussians, centres), strict=True))
+    return dict(zip((camera.name for camera in views), holders_of(trainer.gaussians, centres_of(views)), strict=True))
 
 
 def _finish(trainer: Trainer, scene, run: Path) -> dict:

@@ -25,7 +25,7 @@ from engine.io.gaussians import PARAM_NAMES, Gaussians, concat, init_from_points
 from engine.metrics.image_metrics import psnr_from_mse
 from engine.render.rasterize import CameraTensors, render_views
 from engine.train.adam_step import AdamState, adam_step
-from engine.train.camera_clearance import empty_camera_holders
+from engine.train.camera_clearance import centres_of, empty_camera_holders
 from engine.train.config import TrainConfig
 from engine.train.identity_regularizer import IdentityRegularizer
 from engine.train.photometric_loss import photometric_loss
@@ -169,8 +169,7 @@ class Trainer:
                                                weight=config.reg3d_weight, pool_size=config.reg3d_pool,
                                                refresh_every=config.reg3d_refresh)
         self.cameras = [CameraTensors.from_camera(c, device) for c in scene.cameras]
-        self.camera_centres = torch.as_tensor(np.stack([scene.cameras[i].center for i in self.train_views]),
-                                              dtype=torch.float32, device=device)
+        self.camera_centres = centres_of([scene.cameras[i] for i in self.train_views], device)
         self.camera_holders = torch.zeros((), dtype=torch.long, device=device)  # emptied so far (camera_clearance)
         self.images = {i: torch.as_tensor(scene.images[i], device=device) for i in scene.train}
         self.masks = ({i: torch.as_tensor(scene.masks[i], device=device).long() for i in scene.train}
