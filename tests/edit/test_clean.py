@@ -76,7 +76,7 @@ def test_around_cameras_deletes_the_gaussians_that_hold_a_camera_of_the_scene(tm
     with pytest.raises(InputError, match="nothing to clean"):
         run_clean(CleanConfig(run=str(run.root), out=str(tmp_path / "none")))
     report = run_clean(CleanConfig(run=str(run.root), around_cameras=True))
-    assert report["by_rule"] == {"around_cameras": 0}  # the huge one reaches 7.4 x 3 along x, not 3 along z
+    assert report["by_rule"] == {"around_cameras": 0}  # the huge one is 7.4 long along x, thin along z
     vertices = read_splat_file(run.point_cloud)
     columns = {name: np.array(vertices[name]) for name in vertices.dtype.names}
     columns["scale_2"][5] = 2.0  # now as long along z: the camera lies at 0.4 sigma
