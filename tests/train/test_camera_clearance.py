@@ -69,3 +69,13 @@ def test_holders_of_counts_the_live_gaussians_around_each_camera():
     gaussians = {"means": torch.zeros(2, 3), "quats": torch.tensor([[1.0, 0, 0, 0]] * 2),
                  "scales": torch.zeros(2, 3), "opacities": torch.tensor([2.0, EMPTY_LOGIT])}
     assert holders_of(gaussians, torch.tensor([[0.0, 0.0, 0.5], [10.0, 0.0, 0.0]])) == [1, 0]
+
+
+def test_a_run_reports_the_holders_it_emptied_and_those_around_each_test_camera(living_scene: Path, tmp_path: Path):
+    from engine.train.run import train
+
+    metrics = train(dataclasses.replace(TrainConfig(scene=str(living_scene), out=str(tmp_path / "run"),
+                                                    preset="tiny", device="cpu").resolved(), steps=2))
+    scene = load_scene(living_scene)
+    assert set(metrics["test_view_holders"]) == {scene.cameras[i].name for i in scene.test}
+    assert all(count >= 0 for count in metrics["test_view_holders"].values()) and metrics["camera_holders"] >= 0
