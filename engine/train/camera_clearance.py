@@ -40,14 +40,20 @@ def centres_of(cameras, device: torch.device | str = "cpu") -> torch.Tensor:
 def holding_cameras(means: torch.Tensor, quats: torch.Tensor, log_scales: torch.Tensor, centres: torch.Tensor,
                     sigmas: float = SIGMAS) -> torch.Tensor:
     """(N,) bool: the Gaussians whose `sigmas` ellipsoid contains one of the camera `centres` (C, 3)."""
-    held = torch.zeros(len(means), dtype=torch.bool, device=means.device)
+    return cameras_held(means, quats, log_scales, centres, sigmas).any(-1)
+
+
+def cameras_held(means: torch.Tensor, quats: torch.Tensor, log_scales: torch.Tensor, centres: torch.Tensor,
+                 sigmas: float = SIGMAS) -> torch.Tensor:
+    """(N, C) bool: whether Gaussian n's `sigmas` ellipsoid contains camera centre c (C, 3)."""
+    held = torch.zeros(len(means), len(centres), dtype=torch.bool, device=means.device)
     centres = centres.to(means)
     for start in range(0, len(means), CHUNK):
         part = slice(start, start + CHUNK)
         axes = quat_rotations(quats[part])  # (n, 3, 3): columns are the Gaussian's axes
         offsets = centres[None] - means[part, None]  # (n, C, 3)
         local = torch.einsum("nij,nci->ncj", axes, offsets) / torch.exp(log_scales[part])[:, None]
-        held[part] = (local.square().sum(-1) < sigmas * sigmas).any(-1)
+        held[part] = local.square().sum(-1) < sigmas * sigmas
     return held
 
 
@@ -67,5 +73,5 @@ def holders_of(gaussians, centres: torch.Tensor, floor: float = 0.005) -> list[i
     whether what covers a test view is such a Gaussian (one the training views' clearance cannot see), without
     changing the scene."""
     live = torch.sigmoid(gaussians["opacities"].flatten()) > floor
-    return [int((holding_cameras(gaussians["means"], gaussians["quats"], gaussians["scales"], centre[None]) & live)
-                .sum()) for centre in centres.to(gaussians["means"])]
+    held = cameras_held(gaussians["means"], gaussians["quats"], gaussians["scales"], centres)
+    return (held & live[:, None]).sum(0).tolist()
