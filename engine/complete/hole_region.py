@@ -86,15 +86,30 @@ def fit_to_holes(gaussians: Gaussians, scene: Scene, holes: dict[int, np.ndarray
     opacity = torch.sigmoid(gaussians["opacities"].float()).reshape(-1)
     reach = torch.sqrt(2.0 * torch.log((opacity / FIT_ALPHA).clamp_min(1.0)))  # Mahalanobis radius at FIT_ALPHA
     factor = np.zeros(len(scales))
-    for shrink in sorted(ladder):  # the largest factor that fits is kept
-        activated = {**gaussians, "scales": scales * shrink, "opacities": opacity}
-        fits = np.ones(len(scales), bool)
-        for i, hole in holes.items():
-            fits &= _fits_in_view(activated, reach, scene.cameras[i], hole)
-        factor = np.where(fits, shrink, factor)
+    todo = np.arange(len(scales))
+    for shrink in sorted(ladder, reverse=True):  # the largest factor that fits: each tried only down to it
+        if not len(todo):
+            break
+        fits = _fits_in_views(gaussians, scales * shrink, opacity, reach, todo, scene, holes)
+        factor[fits] = shrink
+        todo = np.setdiff1d(todo, fits)
     shrunk = dict(gaussians)
     shrunk["scales"] = gaussians["scales"] + torch.log(torch.as_tensor(np.maximum(factor, 1e-6)).float())[:, None]
     return shrunk, factor > 0
+
+
+def _fits_in_views(gaussians: Gaussians, scales: torch.Tensor, opacity: torch.Tensor, reach: torch.Tensor,
+                   rows: np.ndarray, scene: Scene, holes: dict[int, np.ndarray]) -> np.ndarray:
+    """The `rows` of `gaussians` (at `scales`, activated, and `opacity`) that pass _fits_in_view in every view of
+    `holes`; each view tests only those that passed the views before it."""
+    for i, hole in holes.items():
+        if not len(rows):
+            break
+        index = torch.as_tensor(rows)
+        activated = {"means": gaussians["means"][index], "quats": gaussians["quats"][index],
+                     "scales": scales[index], "opacities": opacity[index]}
+        rows = rows[_fits_in_view(activated, reach[index], scene.cameras[i], hole)]
+    return rows
 
 
 def _fits_in_view(activated: Gaussians, reach: torch.Tensor, camera, hole: np.ndarray) -> np.ndarray:

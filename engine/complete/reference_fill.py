@@ -20,8 +20,12 @@ a depth that differs from view to view.
 from __future__ import annotations
 
 import dataclasses
+import os
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TypeVar
 
 import cv2
 import numpy as np
@@ -36,6 +40,8 @@ MAX_JUDGES = 24  # views choosing the reference: 24 x 23 carries, 0.4-0.8 s at 3
 GAP_PX = 2  # splat gaps closed, px: a view seeing the surface up to 2x larger than the reference (more: own fill)
 ROW = 4096  # points per row of a remap grid (cv2.remap's maps stay under 32767 px a side)
 BIG = 3.0e38  # float32 stand-in for 'no surface' in the gap closing
+MAX_THREADS = 16  # carries at once (each_view)
+T, R = TypeVar("T"), TypeVar("R")
 REL_TOL = 0.1  # a point this far from the view's own depth fill is something else (two fills of one surface
 # differ by a few per cent; an occluder in front of it by far more)
 
@@ -71,19 +77,31 @@ def reference_view(fills: dict[int, ViewFill]) -> int:
         return next(iter(fills))
     views = list(fills)  # candidates and judges: at most MAX_JUDGES, evenly spread (cost grows with their square)
     views = [views[k] for k in np.linspace(0, len(views) - 1, min(len(views), MAX_JUDGES)).round().astype(int)]
-    scores = {}
-    for r in views:
-        ref, squared, carried, pixels = fills[r], 0.0, 0, 0
-        for i in views:
-            view = fills[i]
-            if i != r:
-                out, landed = carry_fill(view.camera, view.hole, view.depth, view.image, ref.camera, ref.hole,
-                                         ref.depth, ref.image)
-                squared += float(((out.astype(np.float64) - view.image) ** 2)[view.hole].sum())
-                carried, pixels = carried + int(landed.sum()), pixels + int(view.hole.sum())
-        scores[r] = (squared / max(pixels, 1), carried)
+    scores = dict(zip(views, each_view(lambda r: _judged(fills, r, views), views), strict=True))
     most = max(carried for _, carried in scores.values())
     return min((r for r, (_, carried) in scores.items() if carried >= most / 2), key=lambda r: scores[r][0])
+
+
+def _judged(fills: dict[int, ViewFill], r: int, judges: list[int]) -> tuple[float, int]:
+    """Reference `r`'s fill carried to each judge: the mean squared change to the judges' own fills, and the
+    pixels it reached."""
+    ref, squared, carried, pixels = fills[r], 0.0, 0, 0
+    for i in judges:
+        view = fills[i]
+        if i != r:
+            out, landed = carry_fill(view.camera, view.hole, view.depth, view.image, ref.camera, ref.hole,
+                                     ref.depth, ref.image)
+            squared += float(((out.astype(np.float64) - view.image) ** 2)[view.hole].sum())
+            carried, pixels = carried + int(landed.sum()), pixels + int(view.hole.sum())
+    return squared / max(pixels, 1), carried
+
+
+def each_view(work: Callable[[T], R], items: list[T]) -> list[R]:
+    """`work` on each of `items` in threads, results in order. Why: every carry is a few dozen passes of numpy
+    over a hole's pixels, which release the GIL, and a reference's choice takes 24 x 23 of them; one at a time they
+    took most of the skull capture's 67 s of the training scene (66 photos at 1424 px, 079d852)."""
+    with ThreadPoolExecutor(min(os.cpu_count() or 1, MAX_THREADS)) as pool:
+        return list(pool.map(work, items))
 
 
 def carry_fill(camera: Camera, hole: np.ndarray, depth: np.ndarray, image: np.ndarray, ref: Camera,
@@ -135,14 +153,15 @@ def consensus_fill(fills: dict[int, ViewFill], r: int) -> np.ndarray:
     on all six in m-SSIM (m-PSNR on four)."""
     ref = fills[r]
     ys, xs = np.nonzero(ref.hole)
-    samples = [ref.image[ys, xs].astype(np.float32)]
-    for i, view in fills.items():
-        if i != r:
-            out, carried = carry_fill(ref.camera, ref.hole, ref.depth, ref.image, view.camera, view.hole,
-                                      view.depth, view.image)
-            sample = out[ys, xs].astype(np.float32)
-            sample[~carried[ys, xs]] = np.nan
-            samples.append(sample)
+
+    def carried_from(view: ViewFill) -> np.ndarray:
+        out, carried = carry_fill(ref.camera, ref.hole, ref.depth, ref.image, view.camera, view.hole, view.depth,
+                                  view.image)
+        sample = out[ys, xs].astype(np.float32)
+        sample[~carried[ys, xs]] = np.nan
+        return sample
+
+    samples = [ref.image[ys, xs].astype(np.float32)] + each_view(carried_from, [v for i, v in fills.items() if i != r])
     image = ref.image.copy()
     image[ys, xs] = np.round(np.nanmedian(np.stack(samples), axis=0)).astype(image.dtype)
     return image
@@ -197,15 +216,16 @@ def write_reference_fill(scene_dir: SceneLayout, cameras: list[Camera], train: l
         image = read_png(path, size=ref.camera.size)
         image[ref.hole] = ref.image[ref.hole]
         write_png(path, image)
-    carried = total = 0
-    for i, view in fills.items():
-        if i == r:
-            continue
+
+    def carry_into(view: ViewFill) -> tuple[int, int]:
         path = scene_dir.images / view.camera.name
         image, landed = carry_fill(view.camera, view.hole, view.depth, read_png(path, size=view.camera.size),
                                    ref.camera, ref.hole, ref.depth, ref.image)
         write_png(path, image)
-        carried, total = carried + int(landed.sum()), total + int(view.hole.sum())
+        return int(landed.sum()), int(view.hole.sum())
+
+    counts = each_view(carry_into, [view for i, view in fills.items() if i != r])
+    carried, total = sum(c for c, _ in counts), sum(t for _, t in counts)
     report = {"reference": ref.camera.name, "consensus": consensus, "carried_px": carried, "hole_px": total,
               "carried_share": round(carried / total, 4) if total else None}
     if plane is not None:

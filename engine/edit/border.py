@@ -26,10 +26,11 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
+import torch
 
-from engine.formats.cameras import Camera, backproject, pixel_grid, sample_nearest
+from engine.formats.cameras import Camera, backproject, pixel_grid
 from engine.io.masks import dilate
-from engine.io.visibility import visible_from
+from engine.io.visibility import Array, as_tensor, default_device, sample_pixels, visible_from
 
 BORDER_SHARE = 0.04  # the band's width as a share of the image width (the old uniform growth's: 13 px at 320)
 BORDER_LEVELS = 24.0  # 8-bit levels a band pixel's colour may differ from the photos' before it is wrong
@@ -50,28 +51,32 @@ def photo_ranges(photos: list[np.ndarray]) -> list[tuple[np.ndarray, np.ndarray]
 
 
 def contradicted(points: np.ndarray, colours: np.ndarray, cameras: list[Camera],
-                 ranges: list[tuple[np.ndarray, np.ndarray]], depths: list[np.ndarray], occluders: list[np.ndarray],
-                 rel_tol: float, near: float | None, levels: float) -> np.ndarray:
+                 ranges: list[tuple[Array, Array]], depths: list[Array], occluders: list[Array],
+                 rel_tol: float, near: float | None, levels: float, device: torch.device | None = None) -> np.ndarray:
     """(N,) bool: whether most of the photos that see each of `points` (N, 3) contradict its rendered colour
     (`colours`, N x 3): it lies more than `levels` outside the photo's range there in some channel. True where no
     photo sees it. Seeing is seen_by_any's test (depths: the views' removed surfaces; occluders: their object
-    regions)."""
-    seen = np.zeros(len(points), np.int32)
-    against = np.zeros(len(points), np.int32)
-    colours = colours.astype(np.float32)
+    regions), on `device` as it (engine.io.visibility)."""
+    device = device or default_device()
+    points = as_tensor(points, device, torch.float64)
+    colours = as_tensor(colours, device, torch.float32)
+    seen = torch.zeros(len(points), dtype=torch.int32, device=device)
+    against = torch.zeros(len(points), dtype=torch.int32, device=device)
     for camera, (low, high), depth, occluder in zip(cameras, ranges, depths, occluders, strict=True):
-        visible, u, v = visible_from(camera, depth, points, rel_tol, occluder, near)
-        below = sample_nearest(low, u, v)[0].astype(np.float32) - levels
-        above = sample_nearest(high, u, v)[0].astype(np.float32) + levels
-        outside = ((colours < below) | (colours > above)).any(axis=1)
+        visible, u, v = visible_from(camera, as_tensor(depth, device), points, rel_tol,
+                                     as_tensor(occluder, device), near)
+        below = sample_pixels(as_tensor(low, device), u, v)[0].float() - levels
+        above = sample_pixels(as_tensor(high, device), u, v)[0].float() + levels
+        outside = ((colours < below) | (colours > above)).any(dim=1)
         seen += visible
         against += visible & outside
-    return (seen == 0) | (2 * against > seen)
+    return ((seen == 0) | (2 * against > seen)).cpu().numpy()
 
 
 def wrong_border(camera: Camera, hole: np.ndarray, rgb: np.ndarray, depth: np.ndarray, cameras: list[Camera],
-                 ranges: list[tuple[np.ndarray, np.ndarray]], depths: list[np.ndarray], occluders: list[np.ndarray],
-                 rel_tol: float, near: float | None, width_px: int, levels: float = BORDER_LEVELS) -> np.ndarray:
+                 ranges: list[tuple[Array, Array]], depths: list[Array], occluders: list[Array],
+                 rel_tol: float, near: float | None, width_px: int, levels: float = BORDER_LEVELS,
+                 device: torch.device | None = None) -> np.ndarray:
     """(H, W) bool: the pixels within `width_px` of `hole` whose render (`rgb`, `depth`: the removed scene's in
     this view) the training photos contradict (`ranges`: photo_ranges of them; the module's docstring), joined to
     the hole."""
@@ -82,7 +87,8 @@ def wrong_border(camera: Camera, hole: np.ndarray, rgb: np.ndarray, depth: np.nd
     u, v = pixel_grid(camera)
     points = backproject(camera, u[ys, xs], v[ys, xs], depth[ys, xs])
     wrong = band & ~np.isfinite(depth)  # no surface rendered: nothing there to keep
-    wrong[ys, xs] = contradicted(points, rgb[ys, xs], cameras, ranges, depths, occluders, rel_tol, near, levels)
+    wrong[ys, xs] = contradicted(points, rgb[ys, xs], cameras, ranges, depths, occluders, rel_tol, near, levels,
+                                 device)
     return _joined(dilate(wrong, 1), hole) & band
 
 

@@ -46,7 +46,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import torch
 
+from engine.base.device import pick_device
 from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
@@ -64,7 +66,7 @@ from engine.formats.cameras import Camera, backproject, mean_up, pixel_grid, pro
 from engine.formats.layout import HolesLayout, RemovedLayout, RunLayout
 from engine.io.image_io import exr_name, read_depth, read_png, write_png
 from engine.io.masks import dilate
-from engine.io.visibility import DEFAULT_REL_TOL, farthest_nearby, inside_visual_hull, unseen_mask
+from engine.io.visibility import DEFAULT_REL_TOL, Array, as_tensor, farthest_nearby, inside_visual_hull, unseen_mask
 from engine.metrics.image_metrics import mean_and_worst
 from engine.pictures.preview import label, overlay
 from engine.train.trained_run import load_run_scene
@@ -92,10 +94,11 @@ class HoleConfig:
     off_support_tol: float = 0.02  # with see_through, also pixels whose support is this far off its plane, x depth
     border: float = BORDER_SHARE  # also the band this wide (x image width) around a hole that the photos contradict
     border_levels: float = BORDER_LEVELS  # 8-bit levels a band pixel may differ from the photos' colour there
+    device: str = "auto"  # where every pixel is tested against every training view (engine.io.visibility)
 
 
 def _under_object(camera: Camera, stopped: np.ndarray, depth: np.ndarray, cameras: list[Camera],
-                  masks: list[np.ndarray]) -> np.ndarray:
+                  masks: list[Array], device: torch.device | None = None) -> np.ndarray:
     """The `stopped` pixels whose point on the plane (at `depth`) lies under the object: inside its visual
     hull (its region in HULL_SHARE of the training views that frame it). A ray through the object's region
     that passes beside the support's edge meets the plane far beyond the object, where nothing is missing:
@@ -104,7 +107,7 @@ def _under_object(camera: Camera, stopped: np.ndarray, depth: np.ndarray, camera
     u, v = pixel_grid(camera)
     points = backproject(camera, u[ys, xs], v[ys, xs], depth[ys, xs])
     out = np.zeros_like(stopped)
-    out[ys, xs] = inside_visual_hull(points, cameras, masks, share=HULL_SHARE)
+    out[ys, xs] = inside_visual_hull(points, cameras, masks, share=HULL_SHARE, device=device)
     return out
 
 
@@ -143,16 +146,20 @@ def run_holes(config: HoleConfig) -> dict:
              if config.support_plane else None)
     footprint = removal_footprint(removed)
     near = _object_depth(train_cameras, footprint, seen_depths, train_regions)
-    # their silhouettes' blur undone, outside the object's region (the masks' business)
-    seen_surfaces = [farthest_nearby(depth, camera.width // BLUR_PX_PER_WIDTH, region)
+    device = pick_device(config.device)
+    # what every view is tested against, on the device once: their silhouettes' blur undone, outside the object's
+    # region (the masks' business)
+    seen_surfaces = [as_tensor(farthest_nearby(depth, camera.width // BLUR_PX_PER_WIDTH, region), device)
                      for depth, camera, region in zip(seen_depths, train_cameras, train_regions, strict=True)]
     # the object's region in each training view: it hid whatever lies behind it there
-    occluders = [dilate(regions[i], round(config.occluder_margin * np.hypot(scene.cameras[i].width,
-                                                                         scene.cameras[i].height)))
+    occluders = [as_tensor(dilate(regions[i], round(config.occluder_margin * np.hypot(scene.cameras[i].width,
+                                                                                   scene.cameras[i].height))), device)
                  for i in scene.train]
-    hull_masks = [dilate(regions[i], HULL_DILATE_PX) for i in scene.train]
-    photos = photo_ranges([scene.images[i] for i in scene.train])  # what was there: the border's judge
-    photo_occluders = [dilate(regions[i], band_px(scene.cameras[i].width, OCCLUDER_SHARE)) for i in scene.train]
+    hull_masks = [as_tensor(dilate(regions[i], HULL_DILATE_PX), device) for i in scene.train]
+    photos = [(as_tensor(low, device), as_tensor(high, device))  # what was there: the border's judge
+              for low, high in photo_ranges([scene.images[i] for i in scene.train])]
+    photo_occluders = [as_tensor(dilate(regions[i], band_px(scene.cameras[i].width, OCCLUDER_SHARE)), device)
+                       for i in scene.train]
     views, sheet = [], []
     with atomic_output_dir(out) as tmp_root:
         tmp = HolesLayout(tmp_root)
@@ -163,9 +170,9 @@ def run_holes(config: HoleConfig) -> dict:
             background = rendered if plane is None else stop_at_plane(camera, region, rendered, plane, config.rel_tol)
             # where the removed scene renders no surface at all, nothing is there to show: hole
             unseen = unseen_mask(camera, region, background, train_cameras, seen_surfaces, config.rel_tol,
-                                 occluders, near) | (region & ~np.isfinite(background))
+                                 occluders, near, device) | (region & ~np.isfinite(background))
             see_through = _under_object(camera, region & (background < rendered), background, train_cameras,
-                                        hull_masks)  # rays the plane stopped where the object stood
+                                        hull_masks, device)  # rays the plane stopped where the object stood
             if plane is not None and footprint is not None:  # the support under the footprint rendered off its plane
                 see_through |= off_support(camera, region, rendered, plane, footprint, config.off_support_tol)
             unseen_hole = dilate(unseen, config.dilate)
@@ -175,7 +182,7 @@ def run_holes(config: HoleConfig) -> dict:
                 rgb = read_png(removed.images / camera.name, size=camera.size)
                 border = wrong_border(camera, hole, rgb, rendered, train_cameras, photos, seen_surfaces,
                                       photo_occluders, config.rel_tol, near, band_px(camera.width, config.border),
-                                      config.border_levels)
+                                      config.border_levels, device)
                 hole = hole | border
             write_png(tmp.mask(camera.name), hole.astype(np.uint8) * 255)
             write_png(tmp.unseen(camera.name), unseen_hole.astype(np.uint8) * 255)
