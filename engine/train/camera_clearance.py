@@ -58,10 +58,10 @@ def cameras_held(means: torch.Tensor, quats: torch.Tensor, log_scales: torch.Ten
 
 
 @torch.no_grad()
-def empty_camera_holders(params, centres: torch.Tensor) -> torch.Tensor:
-    """Set the opacity of every Gaussian in `params` that holds a camera to EMPTY_LOGIT; how many there were, as
-    a tensor on the parameters' device (read at the end of a run: no wait on the GPU each time)."""
-    held = holding_cameras(params["means"], params["quats"], params["scales"], centres)
+def empty_camera_holders(params, centres: torch.Tensor, sigmas: float = SIGMAS) -> torch.Tensor:
+    """Set the opacity of every Gaussian in `params` that holds a camera (at `sigmas`) to EMPTY_LOGIT; how many
+    there were, as a tensor on the parameters' device (read at the end of a run: no wait on the GPU each time)."""
+    held = holding_cameras(params["means"], params["quats"], params["scales"], centres, sigmas)
     opacities = params["opacities"].data
     opacities.masked_fill_(held.reshape(opacities.shape), EMPTY_LOGIT)
     return held.sum()

@@ -234,8 +234,10 @@ class Trainer:
             if self.colours is not None:
                 self.colours.recentre()
         with part("strategy"):  # MCMC (the only strategy at several views a step) reads no view's info
-            if step % self.config.refine_every == 0 or step + 1 == self.config.steps:  # before it relocates or
-                self.camera_holders += empty_camera_holders(self.params, self.camera_centres)  # prunes; at the end
+            if self.config.camera_clearance > 0 and (step % self.config.refine_every == 0  # before it relocates
+                                                     or step + 1 == self.config.steps):  # or prunes; at the end
+                self.camera_holders += empty_camera_holders(self.params, self.camera_centres,
+                                                            self.config.camera_clearance)
             self.strategy.after_backward(self.params, self.optimizers, self.strategy_state, step,
                                          trained_part(out.info, self.fixed_count), lr)
         self.step_index += 1
