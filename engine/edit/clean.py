@@ -2,7 +2,7 @@
 
 A Gaussian goes when it is fainter than `min_opacity`, larger than `max_size` (its largest standard deviation, world
 units), farther than `max_distance` from the subject (the centre of object_1 when `segment` found objects, else the
-point the cameras look at), outside the `crop` box, or, with `around_cameras`, when its ellipsoid at training's depth
+point the cameras look at), outside the `crop` box, or, with `around_cameras`, when its 1-sigma core
 (camera_clearance.SIGMAS) holds one of the scene's cameras (engine.train.camera_clearance: drawn flat over whole
 views; training empties these itself, a splat trained elsewhere and imported may hold them). The result is a new run
 folder: the kept Gaussians in point_cloud.ply (every field as it was), the run's config, classifier and objects, and
@@ -40,7 +40,7 @@ class CleanConfig:
     max_size: float = 0.0  # delete those whose largest standard deviation exceeds this, world units (0: off)
     max_distance: float = 0.0  # delete those farther than this from the subject, world units (0: off)
     crop: list[float] = field(default_factory=list)  # x0 y0 z0 x1 y1 z1: delete what lies outside
-    around_cameras: bool = False  # delete those whose ellipsoid (camera_clearance.SIGMAS) holds a scene's camera
+    around_cameras: bool = False  # delete those whose 1-sigma core holds one of the scene's cameras
 
     def __post_init__(self) -> None:
         self.crop = [float(v) for v in self.crop]  # saved in clean.json
