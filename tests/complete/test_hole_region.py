@@ -87,6 +87,29 @@ def test_a_gaussian_wider_than_its_hole_is_shrunk_into_it_and_one_that_fits_is_l
         assert alpha[~grown].max() < 0.1 and alpha[hole].max() > 0.9
 
 
+def test_each_gaussian_keeps_the_largest_scale_factor_at_which_it_fits():
+    """fit_to_holes tries the factors from the largest down and each Gaussian only until one fits (the skull capture's
+    completion spent most of its time on every factor for every Gaussian): the factor kept is the largest that the
+    test of that factor alone passes, for Gaussians that fit at once, after shrinking, and never."""
+    import torch
+
+    from engine.complete.hole_region import FIT_LADDER, fit_to_holes
+
+    cams = [camera("left.png", -0.2), camera("right.png", 0.2)]
+    holes = {0: square_hole(), 1: square_hole()}
+    gaussians = round_gaussians([0.1, 0.4, 0.6, 0.9, 1.3, 40.0])
+    gaussians["means"][4] = torch.tensor([0.3, 0.2, 0.0])  # off centre: fits later than its width alone says
+    shrunk, fits = fit_to_holes(gaussians, scene_of(cams), holes)
+    factors = torch.exp(shrunk["scales"][:, 0] - gaussians["scales"][:, 0]).numpy()
+    alone = np.array([fit_to_holes(gaussians, scene_of(cams), holes, ladder=(f,))[1] for f in FIT_LADDER])  # (F, N)
+    for k in range(len(factors)):
+        passing = [f for f, ok in zip(FIT_LADDER, alone[:, k], strict=True) if ok]
+        assert fits[k] == bool(passing)
+        if passing:
+            assert np.isclose(factors[k], max(passing), rtol=1e-5), (k, factors[k], passing)
+    assert fits.tolist()[:2] == [True, True] and not fits[-1] and len(set(np.round(factors[fits], 3))) >= 3
+
+
 def test_a_removed_gaussian_centred_in_the_hole_but_wider_than_it_stays_fixed():
     """What a completion may change (changeable): centred in the hole and fitting it at its own size. A wide one
     centred there renders past the hole too; changed or dropped, the views around the hole change with it."""
