@@ -197,7 +197,8 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
         return ShadowSearch(None, "the best candidate shadow holds too few samples", evidence)
     score = float(np.median(log_y[~inside]) - np.median(log_y[inside]))
     chance, elsewhere = _chance_contrast(grid, frame, best, obj_sample, points, log_y, apart, inside)
-    evidence.update(contrast=score, chance_contrast=chance, darkest_elsewhere=elsewhere)
+    evidence.update(contrast=score, chance_contrast=chance,  # no footprint far enough away: None, JSON has no -inf
+                    darkest_elsewhere=elsewhere if np.isfinite(elsewhere) else None)
     if not score - chance >= config.min_contrast:
         return ShadowSearch(None, "no candidate darker than chance by min_contrast", evidence)
     if not score - elsewhere >= config.min_contrast:
