@@ -28,9 +28,10 @@ import cv2
 import numpy as np
 import torch
 
+from engine.base.device import pick_device
 from engine.formats.cameras import Camera, backproject, pixel_grid
 from engine.io.masks import dilate
-from engine.io.visibility import Array, as_tensor, default_device, sample_pixels, visible_from
+from engine.io.visibility import Array, as_tensor, sample_pixels, visible_from
 
 BORDER_SHARE = 0.04  # the band's width as a share of the image width (the old uniform growth's: 13 px at 320)
 BORDER_LEVELS = 24.0  # 8-bit levels a band pixel's colour may differ from the photos' before it is wrong
@@ -57,7 +58,7 @@ def contradicted(points: np.ndarray, colours: np.ndarray, cameras: list[Camera],
     (`colours`, N x 3): it lies more than `levels` outside the photo's range there in some channel. True where no
     photo sees it. Seeing is seen_by_any's test (depths: the views' removed surfaces; occluders: their object
     regions), on `device` as it (engine.io.visibility)."""
-    device = device or default_device()
+    device = device or pick_device("auto")
     points = as_tensor(points, device, torch.float64)
     colours = as_tensor(colours, device, torch.float32)
     seen = torch.zeros(len(points), dtype=torch.int32, device=device)

@@ -16,6 +16,7 @@ import cv2
 import numpy as np
 import torch
 
+from engine.base.device import pick_device
 from engine.formats.cameras import Camera, backproject, pixel_grid, project, sample_nearest
 
 Array = np.ndarray | torch.Tensor  # an image or depth map on either side (tensors stay where they are)
@@ -65,7 +66,7 @@ def seen_by_any(points: np.ndarray, cameras: list[Camera], depths: list[Array],
     depth squared (a backdrop five times farther than the object is known to 5 rel_tol; at 1% it came out
     'unseen' behind a livingroom's plush).
     """
-    device = device or default_device()
+    device = device or pick_device("auto")
     points = as_tensor(points, device, torch.float64)
     seen = torch.zeros(len(points), dtype=torch.bool, device=device)
     for k, (camera, depth) in enumerate(zip(cameras, depths, strict=True)):
@@ -90,11 +91,6 @@ def visible_from(camera: Camera, depth: torch.Tensor, points: torch.Tensor, rel_
     if occluder is not None:
         visible &= ~sample_pixels(occluder, u, v)[0]
     return visible, u, v
-
-
-def default_device() -> torch.device:
-    """The GPU when torch sees one: these tests are many small passes over every pixel of every view."""
-    return torch.device("cuda" if torch.cuda.is_available() else "cpu")
 
 
 def as_tensor(array: Array, device: torch.device, dtype: torch.dtype | None = None) -> torch.Tensor:
@@ -129,7 +125,7 @@ def inside_visual_hull(means: np.ndarray, cameras: list[Camera], masks: list[Arr
                        share: float = 1.0, device: torch.device | None = None) -> np.ndarray:
     """(N,) bool: in frame in at least `min_views` views and inside the mask in `share` of the views that
     frame it (all of them by default)."""
-    device = device or default_device()
+    device = device or pick_device("auto")
     means = as_tensor(means, device, torch.float64)
     framed = torch.zeros(len(means), dtype=torch.int32, device=device)
     inside = torch.zeros(len(means), dtype=torch.int32, device=device)

@@ -71,10 +71,10 @@ def empty_camera_holders(params, centres: torch.Tensor, sigmas: float = SIGMAS) 
 
 
 @torch.no_grad()
-def holders_of(gaussians, centres: torch.Tensor, floor: float = 0.005) -> list[int]:
+def holders_of(gaussians, centres: torch.Tensor, floor: float = 0.005, sigmas: float = SIGMAS) -> list[int]:
     """Per camera centre (C, 3), how many Gaussians above opacity `floor` hold it: the test views' count says
     whether what covers a test view is such a Gaussian (one the training views' clearance cannot see), without
     changing the scene."""
     live = torch.sigmoid(gaussians["opacities"].flatten()) > floor
-    held = cameras_held(gaussians["means"], gaussians["quats"], gaussians["scales"], centres)
+    held = cameras_held(gaussians["means"], gaussians["quats"], gaussians["scales"], centres, sigmas)
     return (held & live[:, None]).sum(0).tolist()

@@ -10,6 +10,7 @@ import dataclasses
 from dataclasses import dataclass
 
 from engine.base.errors import InputError
+from engine.train.camera_clearance import SIGMAS
 
 PRESETS: dict[str, dict] = {
     # Gaussian Grouping's schedule (refine every 100 from 500 to 15k, reset opacity every 3k) and its
@@ -66,7 +67,7 @@ class TrainConfig:
     # 30k budget) it lost, 18.98 against 23.28 dB; the skull capture's 14.5 dB on an H200 was Gaussians holding the
     # cameras (engine.train.camera_clearance: 20.57 dB with black), not its transparency
     background: str = "black"  # black | random: behind the Gaussians in a training view (random: a colour a view)
-    camera_clearance: float = 1.0  # Gaussians whose ellipsoid holds a training camera at this many sigma are emptied
+    camera_clearance: float = SIGMAS  # Gaussians whose ellipsoid holds a training camera at this many sigma are emptied
     # before each refinement and at the end (engine.train.camera_clearance; 0: never)
     lr_colours: float = 1e-3  # learning rate of the per-view colour corrections
     identity_weight: float = 1.0  # weight of the identity cross-entropy (divided by log of the class count)

@@ -26,7 +26,7 @@ from engine.capture.scene import load_scene
 from engine.formats.layout import RunLayout
 from engine.io.ply_io import save_classifier, save_ply
 from engine.metrics.evaluate import evaluate_views
-from engine.train.camera_clearance import centres_of, holders_of
+from engine.train.camera_clearance import SIGMAS, centres_of, holders_of
 from engine.train.config import TrainConfig
 from engine.train.trainer import Trainer
 
@@ -131,9 +131,11 @@ def _synchronize(device: torch.device) -> None:
 
 
 def _test_view_holders(trainer: Trainer, scene) -> dict[str, int]:
-    """Per test view, the live Gaussians that hold its camera (engine.train.camera_clearance.holders_of)."""
+    """Per test view, the live Gaussians that hold its camera at the run's clearance depth (its default where the
+    clearance is off; engine.train.camera_clearance.holders_of)."""
     views = [scene.cameras[i] for i in scene.test]
-    return dict(zip((camera.name for camera in views), holders_of(trainer.gaussians, centres_of(views)), strict=True))
+    counts = holders_of(trainer.gaussians, centres_of(views), sigmas=trainer.config.camera_clearance or SIGMAS)
+    return dict(zip((camera.name for camera in views), counts, strict=True))
 
 
 def _finish(trainer: Trainer, scene, run: Path) -> dict:
