@@ -9,6 +9,7 @@ import numpy as np
 MAX_TILT_DEG = 20  # how far a level plane's normal may lean from the scene's up
 MAX_POINTS = 20_000  # RANSAC counts inliers among at most this many points
 MIN_INLIER_SHARE = 0.3
+AREA = 3.0  # a level plane's points spread at least this many tol across both of its directions (is_area)
 THIN = 0.45  # a plane holds at least this share of the points within 3 tol of it within tol (a slice through a
 # solid or a wall holds a third: measured on real captures, where vertical slices of a statue and horizontal
 # slices of a wall were taken for planes before; a noisy table top three bands thick holds 0.57)
@@ -18,6 +19,17 @@ def is_thin(points: np.ndarray, normal: np.ndarray, offset: float, tol: float) -
     """Whether the points near the plane lie on it rather than pass through it (see THIN)."""
     distance = np.abs(points @ normal + offset)
     return (distance < tol).sum() >= THIN * max((distance < 3 * tol).sum(), 1)
+
+
+def is_area(points: np.ndarray, tol: float) -> bool:
+    """Whether points near a plane spread over an area of it and not along a strip: the second largest standard
+    deviation at least AREA tol. A level slab through a wall holds a strip of it (the tiny wall-mounted run's top
+    edge of the wall, 112 Gaussians: 0.30 by 0.02, 1.2 tol) that is as long and as thin as a floor; the tiny
+    livingroom's floor and table top spread 0.47 and 0.26 (17 and 10 tol)."""
+    if len(points) < 3:
+        return False
+    deviations = np.linalg.svd(points - points.mean(0), compute_uv=False) / np.sqrt(len(points))
+    return bool(deviations[1] >= AREA * tol)
 
 
 def fit_plane(points: np.ndarray, tol: float, seed: int = 0, tries: int = 300, up: np.ndarray | None = None,
@@ -58,9 +70,19 @@ def fit_plane(points: np.ndarray, tol: float, seed: int = 0, tries: int = 300, u
 def level_normal(points: np.ndarray, up: np.ndarray, tol: float) -> np.ndarray:
     """The normal of the fullest level plane among `points` (the floor, a table top), or `up` if none: the
     scene's level, more exact than the cameras' up (SfM's is only roughly up) and shared by every plane
-    resting parallel to it."""
+    resting parallel to it.
+
+    The fullest level slab may be no plane at all: in a scene that is mostly wall (a trophy mounted on it, the
+    floor barely in view) it is a strip across the wall, whose refit normal leans anywhere about the strip (24
+    degrees from up on a tiny wall-mounted run; the level 'planes' then cut through the trophy and left nothing
+    of it free). So the fit counts only when its refit normal is still level and the points lie on it rather
+    than pass through it (is_thin)."""
     plane = fit_plane(points, tol, up=up, min_share=0.0)
-    return plane[0] if plane is not None else up
+    if plane is None:
+        return up
+    normal, offset = plane
+    level = normal @ up >= np.cos(np.radians(MAX_TILT_DEG))
+    return normal if level and is_thin(points, normal, offset, tol) else up
 
 
 def support_planes(points: np.ndarray, up: np.ndarray, tol: float, share: float, min_radius: float = 0.0,
@@ -97,7 +119,7 @@ def support_planes(points: np.ndarray, up: np.ndarray, tol: float, share: float,
         held = points[on]
         spread = np.median(np.linalg.norm(held - held.mean(0), axis=1))
         if (on.sum() >= need and spread >= min_radius and is_thin(points[left], normal, -centre, tol)
-                and not any(abs(centre + d) < 2 * tol for _, d in planes)):
+                and is_area(held, tol) and not any(abs(centre + d) < 2 * tol for _, d in planes)):
             planes.append((normal, -centre))
         left &= ~(on | seed)
     return planes

@@ -71,7 +71,9 @@ class SegmentConfig(VoteConfig, ProposalConfig):
     restore: bool = False  # bring back the objects the last segment replaced or extended (again: redo)
     rel_tol: float = 0.03  # a Gaussian is seen when its depth is within this fraction of the rendered depth
     join: float = 0.5  # a segment joins the object that holds at least this fraction of its Gaussians
-    min_gaussians: int = 20  # smaller objects go to the background
+    min_gaussians: int = 20  # smaller objects go to the background (--from-masks: unless named in min_views views)
+    min_views: int = 3  # --from-masks: an object the masks name in this many views stays, however few Gaussians
+    # it holds (the tiny livingroom's small objects: 11-17 Gaussians each, named in 5-7 of 7 views)
     out: str = ""  # default RUN/segments
     device: str = "auto"  # auto | cuda | cpu
 
@@ -87,11 +89,13 @@ class SegmentConfig(VoteConfig, ProposalConfig):
 
 
 def lift_masks(means: np.ndarray, cameras: list[Camera], masks: list[np.ndarray], depths: list[np.ndarray],
-               rel_tol: float, join: float) -> tuple[np.ndarray, dict]:
-    """(N,) object id per Gaussian (0 = background) from per-view masks with unassociated ids, and stats."""
+               rel_tol: float, join: float) -> tuple[np.ndarray, dict, np.ndarray]:
+    """(N,) object id per Gaussian (0 = background) from per-view masks with unassociated ids, stats, and per
+    object id the number of views whose masks named it (a segment that started or joined it): how steady it is."""
     n = len(means)
     current = np.full(n, -1, np.int64)  # the object a Gaussian last joined (-1: none yet)
     observations: list[np.ndarray] = []  # codes gaussian * stride + object
+    named: list[int] = []  # the object each segment started or joined, per segment
     stride, next_id, segments, joined = 1 << 20, 1, 0, 0
     for camera, mask, depth in zip(cameras, masks, depths, strict=True):
         u, v, z = project(camera, means)
@@ -109,13 +113,16 @@ def lift_masks(means: np.ndarray, cameras: list[Camera], masks: list[np.ndarray]
                 best = np.bincount(known).argmax()
                 if (known == best).sum() >= join * len(members):
                     objects[members], joined = best, joined + 1
+                    named.append(int(best))
                     continue
             objects[members], next_id = next_id, next_id + 1
+            named.append(next_id - 1)
         labelled = seen & (objects > 0)
         current[labelled] = objects[labelled]
         observations.append(np.flatnonzero(seen) * stride + objects[seen])
-    return _mode(np.concatenate(observations) if observations else np.zeros(0, np.int64), n, stride), \
-        {"segments": segments, "joined": joined, "objects_found": next_id - 1}
+    ids = _mode(np.concatenate(observations) if observations else np.zeros(0, np.int64), n, stride)
+    return ids, {"segments": segments, "joined": joined, "objects_found": next_id - 1}, \
+        np.bincount(np.asarray(named, np.int64), minlength=next_id)
 
 
 def _mode(codes: np.ndarray, n: int, stride: int) -> np.ndarray:
@@ -131,11 +138,15 @@ def _mode(codes: np.ndarray, n: int, stride: int) -> np.ndarray:
     return ids
 
 
-def renumber(ids: np.ndarray, min_gaussians: int, first: int | None = None) -> np.ndarray:
-    """Objects by size, largest first, as 1..K (K <= MAX_OBJECTS), `first` (the subject) before all;
-    small or surplus ones become background."""
+def renumber(ids: np.ndarray, min_gaussians: int, first: int | None = None,
+             steady: np.ndarray | None = None) -> np.ndarray:
+    """Objects by size, largest first, as 1..K (K <= MAX_OBJECTS), `first` (the subject) before all; small
+    (fewer than `min_gaussians`, unless `steady`, bool per id: named in enough views) or surplus ones become
+    background."""
     sizes = np.bincount(ids)
-    order = [i for i in np.argsort(-sizes, kind="stable") if i != 0 and sizes[i] >= min_gaussians]
+    keep = set() if steady is None else set(np.flatnonzero(steady).tolist())
+    order = [i for i in np.argsort(-sizes, kind="stable")
+             if i != 0 and sizes[i] > 0 and (sizes[i] >= min_gaussians or i in keep)]
     if first is not None and first in order:
         order.remove(first)
         order.insert(0, first)
@@ -179,9 +190,10 @@ def run_segment(run, config: SegmentConfig) -> dict:
     if config.adds:
         ids, objects, stats = _add_selection(run, means, config, device)
     else:
-        first = None
+        first, steady = None, None
         if config.from_masks:
-            ids, stats = _from_masks(run, means, config, device)
+            ids, stats, named = _from_masks(run, means, config, device)
+            steady = named >= config.min_views
         else:
             opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
             frame = camera_frame(run.scene.cameras)
@@ -190,7 +202,7 @@ def run_segment(run, config: SegmentConfig) -> dict:
             if config.salient:
                 ids, first, votes = _salient_subject(run, ids, opacity, frame, supports, config, stats, device)
                 stats.update(votes)
-        ids = renumber(ids, config.min_gaussians, first)
+        ids = renumber(ids, config.min_gaussians, first, steady)
         objects = [SceneObject(int(i), f"object_{i}", False) for i in range(1, int(ids.max(initial=0)) + 1)]
         if config.auto and objects:
             stats["subject_share"] = round(float((ids == 1).mean()), 4)  # object_1's share of the scene's Gaussians
@@ -241,7 +253,8 @@ def restore_segments(layout: RunLayout) -> dict:
     return {"restored": True, "objects": len(objects)}
 
 
-def _from_masks(run, means: np.ndarray, config: SegmentConfig, device: torch.device) -> tuple[np.ndarray, dict]:
+def _from_masks(run, means: np.ndarray, config: SegmentConfig, device: torch.device
+                ) -> tuple[np.ndarray, dict, np.ndarray]:
     scene: Scene = run.scene
     views = scene.train
     folder = Path(config.from_masks)
