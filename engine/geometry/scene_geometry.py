@@ -125,7 +125,7 @@ def strip_of_walls(points: np.ndarray, plane: tuple[np.ndarray, float], walls: l
     then it is a level slab across a wall, not a floor. On a wall-mounted run at 160x120 two such slabs (78-86% of
     their points on the wall, the rest the trophy's head) were taken for floors at the trophy's height and cut it
     in three; a floor meets its wall along one edge only."""
-    on = np.abs(points @ plane[0] + plane[1]) < tol
+    on = np.abs(plane_heights(points, [plane])[:, 0]) < tol
     if not walls or not on.any():
         return False
     return bool((np.abs(plane_heights(points[on], walls)) < tol).any(1).mean() >= WALL_STRIP)
