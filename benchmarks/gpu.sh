@@ -156,7 +156,11 @@ case $name in
              i=$(( i + 1 ))
            done; wait
            for n in "${s[@]}"; do tail -n 1 $G/heldout_$n.log; cp $G/heldout/$n/results.json $d/${n}_results.json
-             cp $G/heldout/$n/pictures/$n.png $d/${n}_views.png 2>/dev/null; done
+             cp $G/heldout/$n/pictures/$n.png $d/${n}_views.png 2>/dev/null
+             w=$G/heldout/$n/work/$n/seed0/run  # the sheets to look at: what removal, holes and the fill did
+             cp $w/removed/sheet.png $d/${n}_removed.png 2>/dev/null; cp $w/holes/sheet.png $d/${n}_holes.png 2>/dev/null
+             cp $w/holes/holes.json $d/${n}_holes.json 2>/dev/null; cp $w/removed/removal.json $d/${n}_removal.json 2>/dev/null
+             cp $w/inpainted/telea/sheet_test.png $d/${n}_inpainted.png 2>/dev/null; done
            cp /tmp/splatfill-error-*.txt $d/ 2> /dev/null  # internal errors' tracebacks, named in the cells' reasons
            python3 benchmarks/heldout_wall.py $d/start.txt $G/heldout $GPUS > $d/wall.json
            python3 benchmarks/merge_tables.py $d $G/heldout/*/results.json &&
