@@ -45,7 +45,7 @@ def _window(size: int, sigma: float, device: torch.device, dtype: torch.dtype) -
 
 
 def blur(t: torch.Tensor, size: int = 11, sigma: float = 1.5) -> torch.Tensor:
-    """SSIM's Gaussian window over each channel of (1, C, H, W), 'same' zero padding, as two 1-D passes.
+    """SSIM's Gaussian window over each channel of (B, C, H, W), 'same' zero padding, as two 1-D passes.
     The window is symmetric and zero-padded, so this operator is its own adjoint (the training loss's
     backward, engine.train.photometric_loss, blurs its gradients with it)."""
     g, channels = _window(size, sigma, t.device, t.dtype), t.shape[1]
@@ -55,7 +55,7 @@ def blur(t: torch.Tensor, size: int = 11, sigma: float = 1.5) -> torch.Tensor:
 
 @dataclass
 class SsimParts:
-    """SSIM's local statistics of x against y, each (1, C, H, W): value = a1 a2 / (b1 b2)."""
+    """SSIM's local statistics of x against y, each (B, C, H, W): value = a1 a2 / (b1 b2)."""
 
     mu_x: torch.Tensor
     mu_y: torch.Tensor
@@ -67,7 +67,7 @@ class SsimParts:
 
 
 def ssim_parts(x: torch.Tensor, y: torch.Tensor) -> SsimParts:
-    """SSIM's terms for images (1, C, H, W); all five local means come from one blur."""
+    """SSIM's terms for images (B, C, H, W); all five local means come from one blur."""
     channels = x.shape[1]
     mu_x, mu_y, xx, yy, xy = blur(torch.cat([x, y, x * x, y * y, x * y], dim=1)).split(channels, dim=1)
     c1, c2 = 0.01**2, 0.03**2

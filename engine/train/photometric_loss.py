@@ -28,10 +28,10 @@ from engine.metrics.image_metrics import blur, ssim_parts
 class _Photometric(torch.autograd.Function):
     @staticmethod
     def forward(ctx, rgb: torch.Tensor, target: torch.Tensor, ssim_weight: float) -> torch.Tensor:
-        x, y = rgb.permute(2, 0, 1)[None], target.permute(2, 0, 1)[None]
+        x, y = _channels_first(rgb), _channels_first(target)
         parts = ssim_parts(x, y)
         ctx.save_for_backward(x, y, parts.mu_x, parts.mu_y, parts.a1, parts.a2, parts.b1, parts.b2, parts.value)
-        ctx.ssim_weight = ssim_weight
+        ctx.ssim_weight, ctx.single = ssim_weight, rgb.dim() == 3
         l1 = (x - y).abs().mean()
         return (1 - ssim_weight) * l1 + ssim_weight * (1 - parts.value.mean())
 
@@ -45,17 +45,24 @@ class _Photometric(torch.autograd.Function):
         d_xy = 2 * a1 * inv
         g_mu, g_xx, g_xy = blur(torch.cat([d_mu, d_xx, d_xy], dim=1)).split(x.shape[1], dim=1)
         d_x = (-w / count) * (g_mu + 2 * x * g_xx + y * g_xy) + ((1 - w) / count) * torch.sign(x - y)
-        return (grad * d_x)[0].permute(1, 2, 0), None, None
+        d_x = (grad * d_x).permute(0, 2, 3, 1)
+        return (d_x[0] if ctx.single else d_x), None, None
 
 
 def photometric_loss(rgb: torch.Tensor, target: torch.Tensor, ssim_weight: float, fused: bool = False
                      ) -> torch.Tensor:
-    """(1 - ssim_weight) mean |rgb - target| + ssim_weight (1 - SSIM) for images (H, W, C); differentiable in
+    """(1 - ssim_weight) mean |rgb - target| + ssim_weight (1 - SSIM) for images (H, W, C), or for a batch of
+    views of one size (B, H, W, C): then the mean of their losses, in the launches of one; differentiable in
     `rgb` only (the target is data)."""
     if not fused:
         return _Photometric.apply(rgb, target, ssim_weight)
-    x, y = rgb.permute(2, 0, 1)[None], target.permute(2, 0, 1)[None]
+    x, y = _channels_first(rgb), _channels_first(target)
     return (1 - ssim_weight) * (x - y).abs().mean() + ssim_weight * (1 - fused_ssim()(x, y))
+
+
+def _channels_first(images: torch.Tensor) -> torch.Tensor:
+    """(H, W, C) or (B, H, W, C) as (B, C, H, W), the layout of the SSIM blur's convolutions."""
+    return images.permute(2, 0, 1)[None] if images.dim() == 3 else images.permute(0, 3, 1, 2)
 
 
 def fused_ssim():

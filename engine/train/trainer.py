@@ -81,9 +81,37 @@ class GroupingObjective:
             photometric = photometric_loss(out.rgb, target, cfg.ssim_weight, cfg.fused_ssim)
         return photometric + grouping_terms(trainer, view, out)
 
+    def views_loss(self, trainer: Trainer, views: list[int], outs: list, targets: list[torch.Tensor]
+                   ) -> torch.Tensor:
+        """The mean of __call__ over a step's views, in fewer launches: the photometric loss of views of one size
+        as one batch, MCMC's regularisers (the same for every view) once. Why: a step of four views is bound by
+        the host's launches, and the photometric loss four times over was the most of them (an H200 at 300k
+        Gaussians, 640x480: 14.8 ms a step against 8.6 ms of kernels, 511 launches; docs/BENCHMARKS.md,
+        "Training"). The identity terms stay per view: each view has its own masks, and the 3D regulariser draws
+        its own sample for each."""
+        cfg = trainer.config
+        with trainer.part("photometric"):
+            if len({out.rgb.shape for out in outs}) == 1:
+                photometric = photometric_loss(torch.stack([out.rgb for out in outs]), torch.stack(targets),
+                                               cfg.ssim_weight, cfg.fused_ssim)
+            else:
+                photometric = sum(photometric_loss(out.rgb, target, cfg.ssim_weight, cfg.fused_ssim)
+                                  for out, target in zip(outs, targets, strict=True)) / len(outs)
+        identity = [identity_terms(trainer, view, out) for view, out in zip(views, outs, strict=True)]
+        with trainer.part("strategy"):
+            return photometric + sum(identity) / len(identity) + trainer.strategy.regularisation(trainer.params, cfg)
+
 
 def grouping_terms(trainer: Trainer, view: int, out) -> torch.Tensor | float:
     """The identity and regulariser terms every objective keeps."""
+    loss = identity_terms(trainer, view, out)
+    with trainer.part("strategy"):
+        return loss + trainer.strategy.regularisation(trainer.params, trainer.config)
+
+
+def identity_terms(trainer: Trainer, view: int, out) -> torch.Tensor | float:
+    """The identity cross-entropy against the view's masks and the 3D regulariser, on the steps that render
+    identities; 0 on the others."""
     cfg, step, loss = trainer.config, trainer.step_index, 0.0
     if out.logits is not None:  # a step that renders identities (scenes with masks, every identity_every steps)
         classes = out.logits.shape[-1]
@@ -94,8 +122,7 @@ def grouping_terms(trainer: Trainer, view: int, out) -> torch.Tensor | float:
             with trainer.part("regulariser"):
                 loss = loss + trainer.regularizer.loss(trainer.params["identity"], trainer.classifier,
                                                        trainer.params["means"], step, trainer.generator)
-    with trainer.part("strategy"):
-        return loss + trainer.strategy.regularisation(trainer.params, cfg)
+    return loss
 
 
 def batch_adam(views: int, eps: float) -> dict:
@@ -221,8 +248,7 @@ class Trainer:
             lr = self._means_lr(step)
             self.optimizers["means"].param_groups[0]["lr"] = lr
             identity = self.masks is not None and step % self.config.identity_every == 0
-        outs, targets, losses = self._views_loss(identity)
-        loss = losses[0] if len(losses) == 1 else sum(losses) / len(losses)
+        outs, targets, loss = self._views_loss(identity)
         out, target = outs[-1], targets[-1]
         with part("strategy"):
             self.strategy.step_pre_backward(self.params, self.optimizers, self.strategy_state, step, out.info)
@@ -245,7 +271,8 @@ class Trainer:
 
     def _views_loss(self, identity: bool):
         """The step's training views rendered (in one rasterization where they share a size: a step is bound
-        by the host's launches, engine.render.rasterize.rasterize_views), their photos and their losses."""
+        by the host's launches, engine.render.rasterize.rasterize_views), their photos and the mean of their
+        losses (in one batch where the objective has `views_loss`)."""
         part = self.part
         with part("data"):
             views = [self._next_view() for _ in range(self.config.views_per_step)]
@@ -258,9 +285,11 @@ class Trainer:
                         for view, out in zip(views, outs, strict=True)]
             if self.config.background == "random":
                 outs = [self._on_random_background(out) for out in outs]
+        if len(views) > 1 and hasattr(self.objective, "views_loss"):
+            return outs, targets, self.objective.views_loss(self, views, outs, targets)
         losses = [self.objective(self, view, out, target)
                   for view, out, target in zip(views, outs, targets, strict=True)]
-        return outs, targets, losses
+        return outs, targets, losses[0] if len(losses) == 1 else sum(losses) / len(losses)
 
     def _on_random_background(self, out):
         """`out` over a colour drawn for this view and step: a photo's dark pixel is then matched only by opaque

@@ -18,7 +18,7 @@ from engine.base.errors import InputError
 from engine.capture.scene import load_scene
 from engine.io.ply_io import load_ply
 from engine.metrics.image_metrics import IoUCounter, psnr
-from engine.render.rasterize import CameraTensors, render
+from engine.render.rasterize import CameraTensors, render, render_views
 from engine.train.config import TrainConfig
 from engine.train.run import train
 from engine.train.trainer import Trainer
@@ -245,6 +245,50 @@ def test_the_photometric_loss_and_its_written_out_gradient_equal_autograds():
     torch.testing.assert_close(loss, traced, rtol=1e-12, atol=1e-12)
     assert expected.abs().max() > 1e-4
     torch.testing.assert_close(got, expected, rtol=1e-9, atol=1e-12)
+
+
+def test_the_photometric_loss_of_a_batch_is_the_mean_of_its_views_losses_gradient_too():
+    """Views of one size as one batch (B, H, W, C): the mean of their losses, and each view's gradient that of
+    the mean (a step's four views in the launches of one, GroupingObjective.views_loss)."""
+    from engine.train.photometric_loss import photometric_loss
+
+    gen = torch.Generator().manual_seed(1)
+    target = torch.rand(4, 19, 27, 3, generator=gen, dtype=torch.float64)
+    render = (0.6 * target + 0.4 * torch.rand(4, 19, 27, 3, generator=gen, dtype=torch.float64)).requires_grad_(True)
+    views = sum(photometric_loss(render[k], target[k], 0.2) for k in range(4)) / 4
+    (expected,) = torch.autograd.grad(views, render)
+    batch = photometric_loss(render, target, 0.2)
+    (got,) = torch.autograd.grad(batch, render)
+    torch.testing.assert_close(batch, views, rtol=1e-12, atol=1e-12)
+    torch.testing.assert_close(got, expected, rtol=1e-9, atol=1e-14)
+
+
+def test_a_steps_loss_in_one_batch_is_the_mean_of_its_views_losses(living_scene: Path, tmp_path: Path):
+    """GroupingObjective.views_loss against its per-view loss averaged, on an identity step (masks, the 3D
+    regulariser's draws) at a budget (MCMC's regularisers), and the gradients it leaves on the Gaussians."""
+    from engine.train.trainer import GroupingObjective
+
+    scene = load_scene(living_scene)
+    config = TrainConfig(scene=str(living_scene), out=str(tmp_path), preset="tiny", device="cpu",
+                         max_gaussians=3_000, views_per_step=4, reg3d_every=1).resolved()
+    losses, grads = [], []
+    for batched in (False, True):
+        trainer = Trainer(config, scene, CPU)
+        trainer.generator.manual_seed(0)
+        views = [trainer._next_view() for _ in range(4)]
+        outs = render_views(trainer._rendered(), [trainer.cameras[v] for v in views], trainer.sh_degree,
+                            classifier=trainer.classifier, identity=True)
+        targets = [trainer.images[v].float() / 255.0 for v in views]
+        objective = GroupingObjective()
+        loss = (objective.views_loss(trainer, views, outs, targets) if batched else
+                sum(objective(trainer, v, o, t) for v, o, t in zip(views, outs, targets, strict=True)) / 4)
+        loss.backward()
+        losses.append(loss.detach())
+        grads.append({k: p.grad.clone() for k, p in trainer.params.items() if p.grad is not None})
+    torch.testing.assert_close(losses[1], losses[0], rtol=1e-5, atol=1e-7)
+    assert grads[0].keys() == grads[1].keys() and "identity" in grads[0]
+    for k in grads[0]:
+        torch.testing.assert_close(grads[1][k], grads[0][k], rtol=1e-4, atol=1e-9)
 
 
 def test_adam_step_equals_fused_adam_for_every_optimizer():
