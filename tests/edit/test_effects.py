@@ -246,6 +246,36 @@ def overhang_scene(darken: float):
     return floor, lit, linear_to_srgb(srgb_to_linear(lit) * shade[:, None]), ball
 
 
+def ball_with_cast(light: np.ndarray, darken: float, cast: float):
+    """overhang_scene's ball and floor (the floor under and beside the ball darkened by `darken`), and its cast
+    shadow past its outline under `light`, darkened by `cast` (linear): the floor, its seen colours, the ball, the
+    floor Gaussians in the cast, and the views' samples (none where the ball touches the floor)."""
+    floor, _, seen, ball = overhang_scene(darken)
+    ahead = (floor - [0.0, 0.0, 0.4]) @ light  # a floor point's ray towards the light meets the ball
+    miss = ahead ** 2 - ((floor - [0.0, 0.0, 0.4]) ** 2).sum(1) + 0.16
+    r = np.linalg.norm(floor[:, :2], axis=1)
+    in_cast = (miss > 0) & (-ahead - np.sqrt(np.maximum(miss, 0)) > 0) & (r > 0.4)
+    seen = np.where(in_cast[:, None], linear_to_srgb(srgb_to_linear(seen) * cast), seen)
+    return floor, seen, ball, in_cast, Samples(points=floor[r > 0.08], colors=seen[r > 0.08])
+
+
+@pytest.mark.parametrize("elevation, darken, cast", [(40, 0.25, 0.55), (50, 0.35, 0.7)])
+def test_the_darkness_under_a_round_objects_outline_does_not_hide_its_cast_shadow(elevation, darken, cast):
+    """A ball's outline overhangs the floor, and grazing views see the floor under it dark whatever the light:
+    counted, it made every candidate's cast dark and lights 90+ degrees away as dark as the true one, so the
+    shadow was left as 'surrounded' (held-out livingroom_s100, the snowman, on an H200). Judged past the outline,
+    the cast shadow is found and relit."""
+    light = PlaneFrame(n=np.array([0.0, 0.0, 1.0]), a=np.array([1.0, 0.0, 0.0]), b=np.array([0.0, 1.0, 0.0]),
+                       d=0.0).light(elevation, 30)
+    floor, seen, ball, in_cast, samples = ball_with_cast(light, darken, cast)
+    search = search_of(gaussians(floor, seen), gaussians(ball, np.full((len(ball), 3), 0.9)), samples)
+    assert search.verdict == "found", search.report()
+    assert search.report()["darkest_elsewhere"] < 0.2
+    assert search.shadow.shadowed[in_cast].mean() > 0.4, search.report()
+    far = np.linalg.norm(floor[:, :2], axis=1) > 1.0
+    assert not search.shadow.shadowed[far & ~in_cast].any()
+
+
 def test_the_darkening_under_an_overhang_is_relit_to_the_floor_around_it_texture_kept():
     from engine.edit.contact_shade import find_contact_shade
     from engine.edit.effects import brighten
