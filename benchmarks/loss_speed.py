@@ -1,7 +1,7 @@
-"""How long the training's photometric loss takes, forward and backward, for a step's views as one batch, with the
-batch as the loss lays it out (channels last: the render's (B, H, W, C) permuted) and copied channels first
-(NCHW-contiguous): the SSIM blur's grouped convolution picks its CUDA kernel by layout (docs/BENCHMARKS.md,
-"Training": at 640x480 and four views a cuDNN NHWC engine took 3.3 ms a step where one view at a time took 1.0).
+"""How long the training's photometric loss takes, forward and backward, for a step's views as one batch: laid
+out as the loss lays it out on this device, copied channels first (NCHW-contiguous), and as a permuted view of the
+render's (B, H, W, C), channels last in memory: the SSIM blur's grouped convolution picks its CUDA kernel by layout
+(docs/BENCHMARKS.md, "Training": with the permuted view a cuDNN NHWC engine took 3.3 ms a step).
 
     python benchmarks/loss_speed.py [--views 4] [--size 480 640] [--repeats 200]
 
@@ -52,12 +52,14 @@ def main() -> int:
     target = torch.rand(shape, generator=gen).to(device)
     rgb = torch.rand(shape, generator=gen).to(device).requires_grad_(True)
     as_laid = loss_module._channels_first
-    times = {"channels_last": seconds_per_call(rgb, target, args.repeats)}
-    loss_module._channels_first = lambda images: as_laid(images).contiguous()
-    try:
-        times["nchw_contiguous"] = seconds_per_call(rgb, target, args.repeats)
-    finally:
-        loss_module._channels_first = as_laid
+    times = {"as_laid": seconds_per_call(rgb, target, args.repeats)}
+    for name, layout in (("nchw_contiguous", lambda view: view.contiguous()), ("channels_last", lambda view: view)):
+        loss_module._channels_first = lambda images, layout=layout: layout(
+            images.permute(2, 0, 1)[None] if images.dim() == 3 else images.permute(0, 3, 1, 2))
+        try:
+            times[name] = seconds_per_call(rgb, target, args.repeats)
+        finally:
+            loss_module._channels_first = as_laid
     print(json.dumps({"views": args.views, "size": args.size, "device": str(device), "gpu": gpu_name(device),
                       "ms_per_call": {k: round(1000 * v, 3) for k, v in times.items()}}))
     return 0
