@@ -12,12 +12,11 @@ shadow scales every albedo under it by the same factor, so the texture it darken
    object hid the sky; grazing views see it under an overhang), so every candidate's cast covered it and lights
    90+ degrees away looked as dark as the true one (held-out livingroom_s100 on an H200: 0.34 against 0.46, the
    snowman's shadow left as 'surrounded'); the contact shade relights it. Of the directions above the plane,
-   the one whose cast footprint of the object's
-   Gaussians covers the most samples darker than around (+1 each) and the fewest others (-1 each), and whose
-   part next to the object scores above 0 the same way (a shadow starts at the object), searched
-   coarse then fine, wins if its median log-luminance contrast beats what lights 90+ degrees away score by
-   chance, and each of them, by `min_contrast`; else no shadow, nothing changes (effects.json's `search`
-   says which test turned it down).
+   the one whose cast footprint of the object's Gaussians covers the most samples darker than around (+1 each)
+   and the fewest others (-1 each), and whose part next to the object scores above 0 the same way (a shadow
+   starts at the object), searched coarse then fine, wins if its median log-luminance contrast beats what
+   lights 90+ degrees away score by chance, and each of them, by `min_contrast`; else no shadow, nothing
+   changes (effects.json's `search` says which test turned it down).
 3. The shadowed Gaussians: the remaining ones inside that cast footprint and within a band around the plane,
    or reaching into it from below (3DGS builds a surface out of a layer of Gaussians, some well below it), except
    those where the object touched its support (no view saw them: that is the hole's business) and the support in

@@ -86,9 +86,9 @@ class GroupingObjective:
         """The mean of __call__ over a step's views, in fewer launches: the photometric loss of views of one size
         as one batch, MCMC's regularisers (the same for every view) once. Why: a step of four views is bound by
         the host's launches, and the photometric loss four times over was the most of them (an H200 at 300k
-        Gaussians, 640x480: 14.8 ms a step against 8.6 ms of kernels, 511 launches; docs/BENCHMARKS.md,
-        "Training"). The identity terms stay per view: each view has its own masks, and the 3D regulariser draws
-        its own sample for each."""
+        Gaussians, 640x480: 14.8 ms a step against 8.6 ms of kernels, 511 launches; in one batch 11.8 ms, 269
+        launches; docs/BENCHMARKS.md, "Training"). The identity terms stay per view: each view has its own masks,
+        and the 3D regulariser draws its own sample for each."""
         cfg = trainer.config
         with trainer.part("photometric"):
             if len({out.rgb.shape for out in outs}) == 1:
