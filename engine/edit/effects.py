@@ -202,7 +202,8 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
                     samples_in_shadow=int(inside.sum()))
     if (inside & judged).sum() < 20 or (~inside & judged).sum() < 20:
         return ShadowSearch(None, "the best candidate shadow holds too few samples", evidence)
-    score = float(np.median(log_y[~inside & judged]) - np.median(log_y[inside & judged]))
+    lit_level = np.median(log_y[~inside & judged])  # the support's log-luminance around the candidate shadow
+    score = float(lit_level - np.median(log_y[inside & judged]))
     chance, elsewhere = _chance_contrast(grid, frame, best, obj_sample, points[judged], log_y[judged], apart,
                                          inside[judged])
     evidence.update(contrast=score, chance_contrast=chance,  # no footprint far enough away: None, JSON has no -inf
@@ -215,7 +216,7 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     cast = grown(cast, 1)
     shadowed = around(means, config.band_below, site.reach_up(remaining))
     shadowed[shadowed] = grid.cells(cast, frame.cast(means[shadowed], light))
-    dark = inside & judged & (np.median(log_y[~inside & judged]) - log_y > config.min_contrast)
+    dark = inside & judged & (lit_level - log_y > config.min_contrast)
     theirs, samples_theirs = their_shadows(site, light, means, others, points)
     under = footprint | grid.raster(frame.flat(obj_sample), apart)
     passing = passing_shadows(grid, frame, light, cast, under, frame.cast(points, light),

@@ -109,10 +109,11 @@ def find_supports(means: np.ndarray, opacity: np.ndarray, frame: Frame, config: 
     near = horizontal <= config.orbit * r
     solid = near & (opacity >= config.solid)
     planes = support_planes(means[solid], frame.up, tol, config.plane_share, config.plane_radius * r)
-    on_level = (np.abs(plane_heights(means, planes)) < tol).any(1)
-    walls = tilted_planes(means[solid & ~on_level], frame.up, tol, config.plane_share, config.plane_radius * r)
-    planes = [plane for plane in planes if not strip_of_walls(means[solid], plane, walls, tol)]
-    on_level = (np.abs(plane_heights(means, planes)) < tol).any(1)
+    on_plane = np.abs(plane_heights(means, planes)) < tol
+    walls = tilted_planes(means[solid & ~on_plane.any(1)], frame.up, tol, config.plane_share,
+                          config.plane_radius * r)
+    kept = [k for k, plane in enumerate(planes) if not strip_of_walls(means[solid], plane, walls, tol)]
+    planes, on_level = [planes[k] for k in kept], on_plane[:, kept].any(1)
     free = near & ~on_level & (np.abs(plane_heights(means, walls)) >= tol).all(1)
     if planes:
         free &= means @ frame.up > min(-d for _, d in planes) + tol
