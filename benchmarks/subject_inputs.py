@@ -24,7 +24,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from engine.base.device import pick_device  # noqa: E402
 from engine.geometry.scene_geometry import camera_frame, find_supports  # noqa: E402
 from engine.segment.proposals import propose  # noqa: E402
-from engine.segment.run import SegmentConfig, subject_evidence  # noqa: E402
+from engine.segment.run import SegmentConfig, subject_evidence, subject_supports  # noqa: E402
 from engine.segment.saliency_votes import subject  # noqa: E402
 from engine.train.trained_run import load_run  # noqa: E402
 
@@ -44,6 +44,7 @@ def main() -> int:
     ids, stats = propose(means, opacity, frame, supports, config)
     votes, seen, colours, voxel = subject_evidence(run, frame, config, stats, device)
     solid = opacity >= config.solid
+    supports = subject_supports(supports, means, solid, votes, frame, config)
     chosen, why = subject(votes, means, colours, solid, supports.free, supports.near, frame.up, voxel,
                           config.min_vote, config.stack_gap)
     np.savez_compressed(args.out, means=means.astype(np.float32), opacity=opacity.astype(np.float16),

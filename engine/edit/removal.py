@@ -55,7 +55,7 @@ from engine.edit.support_plane import Footprint, object_core, object_support
 from engine.edit.underside import Underside, find_unbuilt, find_underside, paint
 from engine.formats.cameras import mean_up
 from engine.formats.layout import EffectsLayout, RemovedLayout
-from engine.geometry.scene_geometry import ProposalConfig, camera_frame, find_supports
+from engine.geometry.scene_geometry import ProposalConfig, camera_frame, find_supports, unsliced
 from engine.io.extent import inside_box
 from engine.io.gaussians import Gaussians, concat
 from engine.io.image_io import exr_name, write_depth, write_png
@@ -154,7 +154,9 @@ def run_removal(config: RemovalConfig) -> dict:
     if config.loose and obj is not None:  # a box removes exactly what it holds
         means, frame = run.gaussians["means"].numpy(), camera_frame(scene.cameras)
         opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
-        free = find_supports(means, opacity, frame, ProposalConfig()).free
+        supports, solid = find_supports(means, opacity, frame, ProposalConfig()), opacity >= ProposalConfig.solid
+        free = unsliced(supports, means, solid & supports.near, removed,  # a plane through the object is no wall
+                        ProposalConfig.plane_tol * frame.radius).free
         free &= ~other_objects(run, run.gaussians, obj.id)
         loose = loose_pieces(means, removed, free, core, ProposalConfig.voxel * frame.radius)
         counts["loose"] = int(loose.sum())

@@ -42,7 +42,14 @@ from engine.capture.scene import Scene, SceneObject
 from engine.formats.cameras import Camera, backproject, project, sample_nearest
 from engine.formats.layout import RunLayout, SegmentsLayout
 from engine.formats.splat_ply import IDENTITY_DIM, SH_C0
-from engine.geometry.scene_geometry import Frame, ProposalConfig, Supports, camera_frame, find_supports
+from engine.geometry.scene_geometry import (
+    Frame,
+    ProposalConfig,
+    Supports,
+    camera_frame,
+    find_supports,
+    unsliced,
+)
 from engine.io.extent import bounding_box, inside_box
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import read_png, write_png
@@ -271,14 +278,23 @@ def _salient_subject(run, ids: np.ndarray, opacity: np.ndarray, frame: Frame, su
                      config: SegmentConfig, stats: dict, device: torch.device) -> tuple[np.ndarray, int | None, dict]:
     """The proposals with the subject (engine.segment.saliency_votes) as an object of its own, its id, and why."""
     votes, _, colours, voxel = subject_evidence(run, frame, config, stats, device)
-    chosen, why = subject(votes, run.gaussians["means"].numpy(), colours, opacity >= config.solid, supports.free,
-                          supports.near, frame.up, voxel, config.min_vote, config.stack_gap)
+    means, solid = run.gaussians["means"].numpy(), opacity >= config.solid
+    free = subject_supports(supports, means, solid, votes, frame, config).free
+    chosen, why = subject(votes, means, colours, solid, free, supports.near, frame.up, voxel, config.min_vote,
+                          config.stack_gap)
     if not chosen.any():
         return ids, None, why
     ids = ids.copy()
     first = int(ids.max()) + 1
     ids[chosen] = first
     return ids, first, why
+
+
+def subject_supports(supports: Supports, means: np.ndarray, solid: np.ndarray, votes: np.ndarray, frame: Frame,
+                     config: SegmentConfig) -> Supports:
+    """The supports the subject stands free of: those found, less the walls that slice the salient Gaussians
+    (engine.geometry.scene_geometry.unsliced: a thin figure is no wall)."""
+    return unsliced(supports, means, solid & supports.near, votes >= config.min_vote, config.plane_tol * frame.radius)
 
 
 def subject_evidence(run, frame: Frame, config: SegmentConfig, stats: dict, device: torch.device

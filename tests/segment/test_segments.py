@@ -13,11 +13,11 @@ import pytest
 from engine.base.errors import InputError
 from engine.edit.removal import RemovalConfig, run_removal
 from engine.geometry.planes import level_normal, support_planes
-from engine.geometry.scene_geometry import components, strip_of_walls, voxel_components
+from engine.geometry.scene_geometry import Frame, components, find_supports, strip_of_walls, voxel_components
 from engine.io.image_io import read_png, write_png
 from engine.metrics.segment_scores import association_accuracy, iou, perturb_masks, proposal_scores
 from engine.segment.proposals import split_pieces
-from engine.segment.run import SegmentConfig, lift_masks, pieces_under, renumber, run_segment
+from engine.segment.run import SegmentConfig, lift_masks, pieces_under, renumber, run_segment, subject_supports
 from engine.segment.saliency_votes import subject, weak_evidence
 from engine.train.trained_run import load_run, load_run_scene
 from tests.conftest import setup_weight
@@ -328,3 +328,46 @@ def test_read_back_masks_are_instance_pngs(run_copy: Path, tmp_path: Path):
     run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), box=[*lo, *hi], device="cpu"))
     mask = read_png(run_copy / "segments" / "masks" / "0000.png", kind="mask")
     assert mask.dtype == np.uint8 and set(np.unique(mask)) <= {0, 1}
+
+
+def test_a_thin_figure_sliced_by_a_plane_is_still_the_whole_subject():
+    """The shared statue capture at 766477c: a vertical plane through its thin bronze figure was taken for a wall
+    (91% of the plane's solid Gaussians voted salient), so the figure was not free of the supports and `segment
+    --auto` took its legs and left its chest and head standing. The plane through the salient figure is no wall;
+    the wall behind, with a salient plaque on it, stays one."""
+    rng = np.random.default_rng(0)
+    ground = np.c_[rng.uniform(-1, 1, (20000, 2)), np.zeros(20000)]
+    boulder = rng.uniform([-0.3, -0.3, 0.0], [0.3, 0.3, 0.3], (8000, 3))
+    figure = rng.uniform([-0.1, -0.012, 0.3], [0.1, 0.012, 1.1], (6000, 3))  # a slab a voxel thick
+    wall = np.c_[np.full(10000, -0.9), rng.uniform([-0.8, 0.0], [0.8, 1.2], (10000, 2))]
+    plaque = np.c_[np.full(600, -0.89), rng.uniform([-0.1, 0.5], [0.1, 0.7], (600, 2))]
+    means = np.concatenate([ground, boulder, figure, wall, plaque])
+    part = np.repeat(np.arange(5), [20000, 8000, 6000, 10000, 600])
+    votes = np.isin(part, [1, 2, 4]).astype(float)  # boulder, figure and plaque salient
+    colours = np.where(part[:, None] == 1, [0.8, 0.5, 0.5], [0.1, 0.3, 0.2])
+    opacity, frame, config = np.ones(len(means)), Frame(np.zeros(3), 1.0, np.array([0.0, 0.0, 1.0])), SegmentConfig()
+    supports = find_supports(means, opacity, frame, config)
+    assert len(supports.walls) == 2 and not supports.free[part == 2].any()  # the wall, and a plane through the figure
+    solid = opacity >= config.solid
+    kept = subject_supports(supports, means, solid, votes, frame, config)
+    assert len(kept.walls) == 1 and abs(kept.walls[0][0][0]) > 0.99  # the wall behind (normal along x) stays
+    chosen, why = subject(votes, means, colours, solid, kept.free, kept.near, frame.up, config.voxel, 0.5)
+    taken = [chosen[part == k].mean() for k in range(5)]  # ground, boulder, figure, wall, plaque
+    assert why["pedestal"] and taken[2] > 0.95 and taken[1] < 0.01 and not chosen[np.isin(part, [0, 3, 4])].any(), (
+        why, taken)
+
+
+def test_what_stands_on_the_floor_is_free_of_it_whichever_way_the_cameras_lean():
+    """SfM's up (the cameras' mean) is only roughly up. With it 10 degrees off the floor's normal, a box 6 plane bands
+    tall standing 0.75 R out from the centre lay below the floor by the cameras' up and none of it was free; measured
+    along the floor's own normal, all of it above the floor's band is."""
+    rng = np.random.default_rng(0)
+    floor = np.c_[rng.uniform(-1, 1, (20000, 2)), np.zeros(20000)]
+    box = rng.uniform([-0.8, -0.05, 0.0], [-0.7, 0.05, 0.12], (2000, 3))
+    lean = np.radians(10)
+    frame = Frame(np.zeros(3), 1.0, np.array([np.sin(lean), 0.0, np.cos(lean)]))
+    means = np.concatenate([floor, box])
+    supports = find_supports(means, np.ones(len(means)), frame, SegmentConfig())
+    assert len(supports.planes) == 1 and abs(supports.planes[0][0][2]) > 0.999  # the floor, by its own normal
+    above = box[:, 2] > 0.02 * 1.5
+    assert supports.free[len(floor):][above].mean() > 0.95
