@@ -279,9 +279,10 @@ def _salient_subject(run, ids: np.ndarray, opacity: np.ndarray, frame: Frame, su
     """The proposals with the subject (engine.segment.saliency_votes) as an object of its own, its id, and why."""
     votes, _, colours, voxel = subject_evidence(run, frame, config, stats, device)
     means, solid = run.gaussians["means"].numpy(), opacity >= config.solid
-    free = subject_supports(supports, means, solid, votes, frame, config).free
-    chosen, why = subject(votes, means, colours, solid, free, supports.near, frame.up, voxel, config.min_vote,
-                          config.stack_gap)
+    unsliced_supports = subject_supports(supports, means, solid, votes, frame, config)
+    chosen, why = subject(votes, means, colours, solid, unsliced_supports.free, supports.near, frame.up, voxel,
+                          config.min_vote, config.stack_gap)
+    why["walls_through_the_subject"] = len(supports.walls) - len(unsliced_supports.walls)
     if not chosen.any():
         return ids, None, why
     ids = ids.copy()

@@ -42,6 +42,7 @@ def test_a_wall_mounted_object_is_found_removed_and_its_hole_is_behind_it(wall_r
     report = run_segment(load_run(wall_run), SegmentConfig(run=str(wall_run), auto=True, device="cpu",
                                                            salient_weights=str(setup_weight("u2netp.onnx"))))
     assert report["walls"] >= 1, report  # the wall is a support
+    assert report["walls_through_the_subject"] == 0, report  # ... not the trophy sliced, whatever it holds of it
     found = load_run_scene(wall_run)
     scores = proposal_scores([found.masks[i] for i in truth.test], [truth.masks[i] for i in truth.test],
                              [o.id for o in truth.objects])
