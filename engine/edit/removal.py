@@ -154,8 +154,8 @@ def run_removal(config: RemovalConfig) -> dict:
     if config.loose and obj is not None:  # a box removes exactly what it holds
         means, frame = run.gaussians["means"].numpy(), camera_frame(scene.cameras)
         opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
-        supports, solid = find_supports(means, opacity, frame, ProposalConfig()), opacity >= ProposalConfig.solid
-        free = unsliced(supports, means, solid & supports.near, removed,  # a plane through the object is no wall
+        supports = find_supports(means, opacity, frame, ProposalConfig())
+        free = unsliced(supports, means, opacity >= ProposalConfig.solid, removed,  # a plane through it is no wall
                         ProposalConfig.plane_tol * frame.radius).free
         free &= ~other_objects(run, run.gaussians, obj.id)
         loose = loose_pieces(means, removed, free, core, ProposalConfig.voxel * frame.radius)

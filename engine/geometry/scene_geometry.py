@@ -110,11 +110,9 @@ def find_supports(means: np.ndarray, opacity: np.ndarray, frame: Frame, config: 
     near = horizontal <= config.orbit * r
     solid = near & (opacity >= config.solid)
     planes = support_planes(means[solid], frame.up, tol, config.plane_share, config.plane_radius * r)
-    on_plane = np.abs(plane_heights(means, planes)) < tol
-    walls = tilted_planes(means[solid & ~on_plane.any(1)], frame.up, tol, config.plane_share,
-                          config.plane_radius * r)
-    kept = [k for k, plane in enumerate(planes) if not strip_of_walls(means[solid], plane, walls, tol)]
-    planes = [planes[k] for k in kept]
+    on_level = (np.abs(plane_heights(means, planes)) < tol).any(1)
+    walls = tilted_planes(means[solid & ~on_level], frame.up, tol, config.plane_share, config.plane_radius * r)
+    planes = [plane for plane in planes if not strip_of_walls(means[solid], plane, walls, tol)]
     return Supports(planes, walls, near, free_of(means, near, planes, walls, tol))
 
 
@@ -123,21 +121,22 @@ def free_of(means: np.ndarray, near: np.ndarray, planes: list[tuple[np.ndarray, 
     """(N,) bool: within the orbit (`near`), off every plane and wall (by `tol`) and above the lowest level plane,
     measured along the planes' own normal (support_planes gives them one), not the cameras' `up`: SfM's up is only
     roughly up, and 10 degrees off it moves a point 0.8 R out from the centre by 7 tol."""
-    free = near & (np.abs(plane_heights(means, planes + walls)) >= tol).all(1)
+    heights = plane_heights(means, planes + walls)
+    free = near & (np.abs(heights) >= tol).all(1)
     if planes:
-        free &= plane_heights(means, planes).max(1) > tol  # the lowest plane's height is the largest of them
+        free &= heights[:, :len(planes)].max(1) > tol  # the lowest plane's height is the largest of them
     return free
 
 
 def unsliced(supports: Supports, means: np.ndarray, solid: np.ndarray, member: np.ndarray, tol: float
              ) -> Supports:
-    """The `supports` without the walls that slice an object: a tilted plane whose solid Gaussians (within `tol`)
-    lie mostly (SLICED) on `member` (the Gaussians voted salient, or those a removal takes). Why: a thin figure
-    holds a plane as well as a wall does. On the shared statue capture a vertical plane through the bronze figure
-    (a voxel or two thick) was taken for a wall, 91% of its solid Gaussians voted salient; the figure was then not
-    free of the supports, and `segment --auto` took its legs and left its chest and head standing. A wall behind
-    a mounted trophy holds the trophy's plaque, a small share of it."""
-    on = [solid & (np.abs(plane_heights(means, [wall])[:, 0]) < tol) for wall in supports.walls]
+    """The `supports` without the walls that slice an object: a tilted plane whose `solid` Gaussians within the
+    orbit (and within `tol` of it) lie mostly (SLICED) on `member` (the Gaussians voted salient, or those a removal
+    takes). Why: a thin figure holds a plane as well as a wall does. On the shared statue capture a vertical plane
+    through the bronze figure (a voxel or two thick) was taken for a wall, 91% of its solid Gaussians voted salient;
+    the figure was then not free of the supports, and `segment --auto` took its legs and left its chest and head
+    standing. A wall behind a mounted trophy holds the trophy's plaque, a small share of it."""
+    on = [solid & supports.near & (np.abs(plane_heights(means, [wall])[:, 0]) < tol) for wall in supports.walls]
     kept = [wall for wall, held in zip(supports.walls, on, strict=True) if member[held].sum() <= SLICED * held.sum()]
     if len(kept) == len(supports.walls):
         return supports

@@ -295,7 +295,7 @@ def subject_supports(supports: Supports, means: np.ndarray, solid: np.ndarray, v
                      config: SegmentConfig) -> Supports:
     """The supports the subject stands free of: those found, less the walls that slice the salient Gaussians
     (engine.geometry.scene_geometry.unsliced: a thin figure is no wall)."""
-    return unsliced(supports, means, solid & supports.near, votes >= config.min_vote, config.plane_tol * frame.radius)
+    return unsliced(supports, means, solid, votes >= config.min_vote, config.plane_tol * frame.radius)
 
 
 def subject_evidence(run, frame: Frame, config: SegmentConfig, stats: dict, device: torch.device
