@@ -8,10 +8,8 @@ into every other training view's hole, so every view places the one fill at the 
 carries is the consensus (`consensus_fill`): each of its hole pixels the median of every view's own fill of that
 point, so the fill keeps what the inpaintings agree on, which makes Init's scene better than any one of them. A view's
 own inpainted depth only vetoes a point far from it (`rel_tol`: an occluder the reference filled in front
-of the surface this view shows). Pixels no point lands on (a hole wider in this view than in the
-reference) are lifted by this view's own inpainted depth and read from the reference's image where the
-reference sees that point (`carry_seen`); only what neither reaches keeps its own view's fill, so no
-straight-edged patch of a second fill sits beside the carried one. Colours outside the holes are untouched.
+of the surface this view shows); pixels no point lands on keep their own view's fill. Colours outside the
+holes are untouched.
 
 The first version lifted each view's hole pixels with that view's own inpainted depth and looked the colour
 up in the reference where the two depths agreed to 3%: two inpainters' depth fills of one surface seldom
@@ -128,32 +126,6 @@ def carry_fill(camera: Camera, hole: np.ndarray, depth: np.ndarray, image: np.nd
     return out, carried
 
 
-def carry_seen(camera: Camera, hole: np.ndarray, depth: np.ndarray, image: np.ndarray, ref: Camera,
-               ref_depth: np.ndarray, ref_image: np.ndarray, rel_tol: float = REL_TOL
-               ) -> tuple[np.ndarray, np.ndarray]:
-    """`image` with its `hole` pixels read from `ref_image` wherever the reference sees their point (lifted by
-    this view's own `depth`, landing within `rel_tol` of the reference's `ref_depth` there), and the (H, W) mask of
-    those.
-
-    Why: each view's hole is its own; the reference's holds the part no view saw, but another view's also takes
-    what its own render gets wrong around it (a border band, a see-through patch), which the reference often saw.
-    carry_fill brings only the reference's hole, so those parts kept the view's own fill, a second inpainting
-    beside the carried one, and where a shadow's edge crossed the hole the two met in a straight seam
-    (statue_s100, docs/BENCHMARKS.md "Held-out table"). Read from the reference instead, every view shows one
-    colour for each point the reference shows."""
-    rows, cols = np.nonzero(hole & np.isfinite(depth) & (depth > 0))
-    u, v, z = project(ref, backproject(camera, cols + 0.5, rows + 0.5, depth[rows, cols]))
-    inside = (z > 0) & (u >= 0.5) & (u <= ref.width - 0.5) & (v >= 0.5) & (v <= ref.height - 0.5)
-    rows, cols, u, v, z = rows[inside], cols[inside], u[inside], v[inside], z[inside]
-    there = ref_depth[np.minimum(v.astype(np.int64), ref.height - 1), np.minimum(u.astype(np.int64), ref.width - 1)]
-    seen = np.isfinite(there) & (np.abs(z - there) <= rel_tol * there)
-    out, mask = image.copy(), np.zeros(hole.shape, bool)
-    if seen.any():
-        out[rows[seen], cols[seen]] = sample_bilinear(ref_image, u[seen] - 0.5, v[seen] - 0.5).astype(image.dtype)
-        mask[rows[seen], cols[seen]] = True
-    return out, mask
-
-
 def sample_bilinear(image: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """`image` (H, W[, C]) read bilinearly at the pixel coordinates (x, y), edges replicated: (N[, C]).
 
@@ -224,10 +196,9 @@ def carried_surface(camera: Camera, hole: np.ndarray, depth: np.ndarray, ref: Ca
 
 def write_reference_fill(scene_dir: SceneLayout, cameras: list[Camera], train: list[int], holes_of: HolesLayout,
                          inpainted: InpaintedLayout, dilation: int, consensus: bool = True,
-                         plane: PlaneFill | None = None, seen: bool = True) -> dict:
+                         plane: PlaneFill | None = None) -> dict:
     """Rewrite the training images of `scene_dir` (a completion's training scene) so that every hole
-    carries the reference view's fill, and with `seen` the rest of each hole what the reference shows there
-    (carry_seen); returns what was done."""
+    carries the reference view's fill; returns what was done."""
     fills = {}
     for i in train:
         camera = cameras[i]
@@ -250,18 +221,13 @@ def write_reference_fill(scene_dir: SceneLayout, cameras: list[Camera], train: l
         path = scene_dir.images / view.camera.name
         image, landed = carry_fill(view.camera, view.hole, view.depth, read_png(path, size=view.camera.size),
                                    ref.camera, ref.hole, ref.depth, ref.image)
-        read = np.zeros_like(landed)
-        if seen:
-            image, read = carry_seen(view.camera, view.hole & ~landed, view.depth, image, ref.camera, ref.depth,
-                                     ref.image)
         write_png(path, image)
-        return int(landed.sum()), int(view.hole.sum()), int(read.sum())
+        return int(landed.sum()), int(view.hole.sum())
 
     counts = each_view(carry_into, [view for i, view in fills.items() if i != r])
-    carried, total, read = (sum(c[k] for c in counts) for k in range(3))
+    carried, total = sum(c for c, _ in counts), sum(t for _, t in counts)
     report = {"reference": ref.camera.name, "consensus": consensus, "carried_px": carried, "hole_px": total,
-              "carried_share": round(carried / total, 4) if total else None, "seen": seen, "seen_px": read,
-              "seen_share": round(read / total, 4) if total else None}
+              "carried_share": round(carried / total, 4) if total else None}
     if plane is not None:
         report["plane_texture"] = _plane_texture(scene_dir, fills, plane)
     return report

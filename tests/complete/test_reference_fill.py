@@ -183,32 +183,3 @@ def test_the_consensus_fill_is_nearer_the_truth_than_any_one_views_fill():
     median = consensus_fill(fills, 0)
     assert error(median) < 0.75 * min(error(f.image) for f in fills.values())
     assert np.array_equal(median[~hole], fills[0].image[~hole])
-
-
-def test_a_hole_wider_than_the_references_reads_the_rest_from_what_the_reference_sees():
-    """This view's hole reaches 6 px past the reference's (its render wrong around the object, the reference's
-    not): carry_fill brings the reference's hole alone, carry_seen the rest from the reference's image, point by
-    point; a point the reference sees in front of something else (an occluder at half the depth) stays."""
-    from engine.complete.reference_fill import carry_fill, carry_seen
-    from engine.io.masks import dilate
-
-    ref = front_camera()
-    other = Camera(name="o.png", width=40, height=30, fx=40.0, fy=40.0, cx=20.0, cy=15.0, R=np.eye(3),
-                   t=np.array([-0.3, 0.0, 0.0]))
-    ref_depth, depth = np.full((30, 40), 4.0), np.full((30, 40), 4.0)
-    ref_image = wall_seen_by(ref, ref_depth)
-    ref_hole = np.zeros((30, 40), bool)
-    ref_hole[12:18, 17:27] = True
-    hole = dilate(ref_hole, 6)
-    image = np.zeros((30, 40, 3), np.uint8)
-    filled, carried = carry_fill(other, hole, depth, image, ref, ref_hole, ref_depth, ref_image)
-    rest = hole & ~carried
-    assert rest.sum() > 100 and not filled[rest].any()  # the rest kept this view's own (black) fill
-    seen_image, seen = carry_seen(other, rest, depth, filled, ref, ref_depth, ref_image)
-    assert np.array_equal(seen, rest)
-    truth = wall_seen_by(other, depth)
-    assert np.abs(seen_image[hole].astype(int) - truth[hole]).max() <= 6
-    assert np.array_equal(seen_image[~rest], filled[~rest])
-    ref_depth[:, :20] = 2.0  # the reference's left half sees an occluder in front of the wall
-    _, seen = carry_seen(other, rest, depth, filled, ref, ref_depth, ref_image)
-    assert seen.any() and not (seen & (np.arange(40) < 17)[None]).any()

@@ -13,8 +13,6 @@ from engine.complete.registry import Option, register
 
 PLANE = Option("plane_texture", False, "ref: the hole's part on the support plane filled once in the plane's own "
                "texture and carried into every view by the plane (engine.complete.plane_texture)")
-SEEN = Option("seen_rest", True, "ref: the hole's pixels the reference's fill does not reach show what the reference "
-              "shows of their point, where it sees it (off: their own view's fill)")
 CONSENSUS = Option("consensus", True, "ref: the fill carried is the median of every view's own fill of each point "
                    "(off: the reference view's own fill)")
 
@@ -24,15 +22,13 @@ class Reference(Init):
     name = "reference"
     label = "Ref"
     summary = "inpaint one reference view, carry its fill to every view by depth, train a new scene"
-    options = (*Init.options, CONSENSUS, PLANE, SEEN)
+    options = (*Init.options, CONSENSUS, PLANE)
     cells = {"reference": {}, "reference-single": {"consensus": False},
-             "reference-scratch": {"warm": False, "keep_rest": False}, "reference-plane": {"plane_texture": True},
-             "reference-own-rest": {"seen_rest": False}}
+             "reference-scratch": {"warm": False, "keep_rest": False}, "reference-plane": {"plane_texture": True}}
 
     def title(self, inpainter: str, options: dict) -> str:
         return (super().title(inpainter, options) + ("" if options.get("consensus", True) else "[single]")
-                + ("[plane]" if options.get("plane_texture") else "")
-                + ("" if options.get("seen_rest", True) else "[own-rest]"))
+                + ("[plane]" if options.get("plane_texture") else ""))
 
     def after_scene(self, job, scene_dir: Path) -> dict | None:
         from engine.complete.reference_fill import write_reference_fill
@@ -42,8 +38,7 @@ class Reference(Init):
         scene = job.original.scene
         report = write_reference_fill(SceneLayout(scene_dir), scene.cameras, scene.train, job.holes, job.inpainted,
                                       inpainted_dilation(job.inpainted), job.options["consensus"],
-                                      plane_fill(job) if job.options.get("plane_texture") else None,
-                                      job.options.get("seen_rest", True))
+                                      plane_fill(job) if job.options.get("plane_texture") else None)
         (Path(scene_dir) / "reference_fill.json").write_text(json.dumps(report, indent=1))
         return super().after_scene(job, scene_dir)
 
