@@ -9,18 +9,29 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import torch
 
 from engine.base.errors import InputError
 from engine.edit.removal import RemovalConfig, run_removal
+from engine.formats.cameras import Camera
 from engine.geometry.planes import level_normal, support_planes
 from engine.geometry.scene_geometry import Frame, components, find_supports, strip_of_walls, voxel_components
 from engine.io.image_io import read_png, write_png
 from engine.metrics.segment_scores import association_accuracy, iou, perturb_masks, proposal_scores
 from engine.segment.proposals import split_pieces
-from engine.segment.run import SegmentConfig, lift_masks, pieces_under, renumber, run_segment, subject_supports
+from engine.segment.run import (
+    SegmentConfig,
+    lift_masks,
+    pieces_under,
+    rendered_under,
+    renumber,
+    run_segment,
+    subject_supports,
+)
 from engine.segment.saliency_votes import subject, weak_evidence
 from engine.train.trained_run import load_run, load_run_scene
 from tests.conftest import setup_weight
+from tests.gaussian_grids import gaussians
 
 
 @pytest.fixture
@@ -163,10 +174,25 @@ def test_a_click_takes_every_piece_that_meets_where_it_landed():
     assert list(pieces_under(means, ids, np.array([0.5, 0.1, 0.1]), reach=0.04)) == [4]
 
 
+def test_a_click_takes_the_proposal_that_renders_under_it_not_a_hidden_or_faint_one():
+    """A body (proposal 5) in front of the camera, a piece of the same size hidden behind it (2), a faint sliver
+    in front of it that renders nothing (7), and 20 one-Gaussian proposals round it (more than an identity
+    render holds): the click on the body gives 5; a click where only the support renders gives 0."""
+    grid = np.stack(np.meshgrid(np.linspace(-0.3, 0.3, 8), np.linspace(-0.3, 0.3, 8), [0.0]), -1).reshape(-1, 3)
+    rng = np.random.default_rng(0)
+    crowd = np.concatenate([rng.uniform(-0.5, 0.5, (20, 2)), np.full((20, 1), 2.5)], axis=1)
+    support = np.stack(np.meshgrid(np.linspace(-3, 3, 40), np.linspace(-3, 3, 40), [4.0]), -1).reshape(-1, 3)
+    means = np.concatenate([grid + [0, 0, 2], grid + [0, 0, 3], [[0, 0, 1.9]] * 3, crowd, support])
+    ids = np.concatenate([np.full(64, 5), np.full(64, 2), np.full(3, 7), np.arange(10, 30), np.zeros(1600, int)])
+    splats = gaussians(means, np.full((len(means), 3), 0.5), scale=0.06)
+    splats["opacities"][128:131] = -12.0  # the sliver: opacity 6e-6
+    camera = Camera("0000.png", 64, 48, 60.0, 60.0, 32.0, 24.0, np.eye(3), np.zeros(3))
+    assert rendered_under(splats, 0, ids, camera, (32.5, 24.5), torch.device("cpu")) == 5
+    assert rendered_under(splats, 0, ids, camera, (3.5, 3.5), torch.device("cpu")) == 0
+
+
 def test_lifting_joins_segments_that_share_gaussians_whatever_their_ids():
     """Two views of two clusters of points, the ids swapped between the views: two objects, not four."""
-    from engine.formats.cameras import Camera
-
     rng = np.random.default_rng(0)
     means = np.concatenate([rng.normal([-0.5, 0, 5], 0.1, (100, 3)), rng.normal([0.5, 0, 5], 0.1, (100, 3))])
     camera = Camera("0000.png", 64, 48, 60.0, 60.0, 32.0, 24.0, np.eye(3), np.zeros(3))
