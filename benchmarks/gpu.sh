@@ -39,7 +39,7 @@
 #   start NAME [ARGS]              any of the above detached (for runs past one call's 10 minutes); its records go
 #                                  to /tmp/gpu/out/NAME, its log to /tmp/gpu/NAME.log
 #   wait SECONDS                   until the detached runs end or SECONDS pass
-#   collect                        the detached runs' records (JSON, CSV, Markdown, text, pictures) as one file,
+#   collect                        the detached runs' records (JSON, CSV, Markdown, text, pictures as JPEGs) as one file,
 #                                  $OUT/records.tgz, to fetch at once, and their npz arrays beside it (seven at most)
 #   save-build                     gsplat's built extension into $OUT/gsplat_build.tgz (send it back as .gsplat_build/)
 #   wheels                         HERE, not on the GPU machine: download the wheels it lacks into .whl/ (17 MB,
@@ -174,7 +174,8 @@ case $name in
         running() { for f in $G/*.pid; do [ -f "$f" ] && kill -0 $(cat $f) 2> /dev/null && return 0; done; return 1; }
         while running && [ $(date +%s) -lt $end ]; do sleep 10; done
         running && echo "still running" || echo "all ended"; tail -n 3 $G/*.log 2>/dev/null;;
-  collect) (cd $G/out && find . -type f \( -name '*.json' -o -name '*.csv' -o -name '*.md' -o -name '*.txt' -o -name '*.png' \
+  collect) python3 benchmarks/records.py shrink $G/out  # pictures as JPEGs at most 1600 px wide: a call returns little
+           (cd $G/out && find . -type f \( -name '*.json' -o -name '*.csv' -o -name '*.md' -o -name '*.txt' -o -name '*.png' \
              -o -name '*.jpg' \) -size -4M | tar czf $OUT/records.tgz -T -) && tar tzf $OUT/records.tgz | head -40
            find $G/out -name '*.npz' -size -16M | head -n 7 | xargs -r cp -t $OUT/;;  # beside it: arrays to study here
   save-build) tar czf $OUT/gsplat_build.tgz -C $EXT gsplat_cuda && ls -la $OUT;;

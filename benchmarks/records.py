@@ -53,3 +53,29 @@ def report_or_measure(parser: argparse.ArgumentParser, results: Path, report: Ca
     else:
         measure(args)
     return 0
+
+
+def shrink_pictures(folder: Path, width: int = 1600) -> int:
+    """Every PNG under `folder` as a JPEG at most `width` px wide in its place (quality 85), so the records one
+    call of the GPU machine returns fit in what it returns: three held-out scenes' PNG sheets were too large.
+    Returns how many were converted."""
+    import cv2
+
+    count = 0
+    for path in sorted(folder.rglob("*.png")):
+        image = cv2.imread(str(path), cv2.IMREAD_COLOR)
+        if image is None:
+            continue
+        if image.shape[1] > width:
+            image = cv2.resize(image, (width, round(image.shape[0] * width / image.shape[1])),
+                               interpolation=cv2.INTER_AREA)
+        if cv2.imwrite(str(path.with_suffix(".jpg")), image, [cv2.IMWRITE_JPEG_QUALITY, 85]):
+            path.unlink()
+            count += 1
+    return count
+
+
+if __name__ == "__main__":  # python3 benchmarks/records.py shrink FOLDER (benchmarks/gpu.sh collect)
+    if len(sys.argv) != 3 or sys.argv[1] != "shrink":
+        sys.exit("usage: python3 benchmarks/records.py shrink FOLDER")
+    print(f"pictures as JPEG: {shrink_pictures(Path(sys.argv[2]))}")

@@ -123,3 +123,22 @@ def test_the_oracles_stand_beside_the_methods_unranked():
     assert rows["Oracle: truth blurred 4 px"]["m_psnr"] == 30.0
     lines = {line.split(" | ")[0]: line for line in _table(rows)}
     assert "**30.00**" not in lines["| Oracle: truth blurred 4 px"] and "**19.00**" in lines["| Init-telea"]
+
+
+def test_records_pictures_come_back_as_jpegs_no_wider_than_the_limit(tmp_path: Path):
+    """gpu.sh collect's shrink: a wide PNG sheet becomes a JPEG of the same proportions at the width limit, a
+    small one a JPEG of its own size; other records stay as they are."""
+    import cv2
+    import numpy as np
+
+    from benchmarks.records import shrink_pictures
+
+    (tmp_path / "heldout").mkdir()
+    sheet = np.tile(np.linspace(0, 255, 2400, dtype=np.uint8)[None, :, None], (900, 1, 3))
+    cv2.imwrite(str(tmp_path / "heldout" / "sheet.png"), sheet)
+    cv2.imwrite(str(tmp_path / "small.png"), sheet[:40, :60])
+    (tmp_path / "results.json").write_text("{}")
+    assert shrink_pictures(tmp_path, width=1600) == 2
+    assert sorted(p.name for p in tmp_path.rglob("*") if p.is_file()) == ["results.json", "sheet.jpg", "small.jpg"]
+    assert cv2.imread(str(tmp_path / "heldout" / "sheet.jpg")).shape == (600, 1600, 3)
+    assert cv2.imread(str(tmp_path / "small.jpg")).shape == (40, 60, 3)
