@@ -11,10 +11,12 @@ shadow's missed rim, about half of the error outside the hole). Found as a shadi
    shadow) within `window` cells; the reference is the same over the lit support just beyond the zone,
    from a window wide enough to reach it (so a cell on a pink mat is compared with the pink mat beside it).
    A texture finer than the window averages out of both, so what is left is the light it had.
-   Not where the darkness runs on past the zone: darkening from the object fades within reach of it, and
-   where the lit ring beyond is as dark in the same direction from the object, something else darkens there
-   (a tree's band through the object) and gt/ keeps it (`_running_on`); not the object's own cast shadow,
-   whose rim its relight left, nor other objects and their shadows (tiny CPU livingroom s7: -0.23 dB if so).
+   Where the darkness runs on past the zone, the reference is that darkness: darkening from the object fades
+   within reach of it, and where the lit ring beyond is as dark in the same direction from the object,
+   something else darkens there (a tree's band through the object) and gt/ keeps it (`_running_on`); the
+   cells there are compared with the darkest of the ring in their direction (`_sector_level`), so the band
+   stays and only what the object added to it goes. Not the object's own cast shadow, whose rim its relight
+   left, nor other objects and their shadows (tiny CPU livingroom s7: -0.23 dB if so).
 3. Cells darker than their reference by more than `min_contrast` (log-luminance) are shaded; the support's
    Gaussians in them are multiplied by the ratio, per channel, blended in over one `min_contrast` so the
    edge leaves no seam. Where the texture survived, it comes back as it was. Inside the hole the renders
@@ -108,12 +110,16 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     for part in (others, cast):
         if part is not None:
             theirs |= part
-    explained = _explained(site, means[theirs], window)
-    runs_on = _running_on(darker, zone, beyond & ~explained, np.argwhere(above).mean(0), min_contrast)
-    weight = np.where(zone & ~runs_on & np.isfinite(darker), darker_share(darker, min_contrast), 0.0)
+    ring = beyond & ~_explained(site, means[theirs], window)
+    centre = np.argwhere(above).mean(0)
+    runs_on = _running_on(darker, zone, ring, centre, min_contrast)
+    level = _sector_level(local, ring, centre)
+    darker = np.where(runs_on, (level - local) @ LUMA / LUMA.sum(), darker)
+    weight = np.where(zone & np.isfinite(darker), darker_share(darker, min_contrast), 0.0)
     if not (weight > 0.5).any():
         return None
     local, reference = shading(np.log(srgb_to_linear(shown_colors) + LINEAR_EPS))  # undone in linear ones
+    reference = np.where(runs_on[..., None], _sector_level(local, ring, centre), reference)
     gain = np.exp(weight[..., None] * np.nan_to_num(reference - local))
     gain = np.clip(cv2.blur(gain.astype(np.float32), (3, 3)), 1.0, most ** 2.4)
     weight = cv2.blur(weight.astype(np.float32), (3, 3))
@@ -139,15 +145,36 @@ def _running_on(darker: np.ndarray, zone: np.ndarray, beyond: np.ndarray, centre
     the zone, which the object did not cast (held-out statue_s100: a tree's band through the statue, relit
     beside it as its contact shade once no cast shadow was found there). A direction whose ring holds too
     few estimates (off the support) says nothing."""
-    size = darker.shape[0]
-    ii, jj = np.mgrid[0:size, 0:size]
-    sector = (np.floor((np.arctan2(ii - centre[0], jj - centre[1]) + np.pi) / (2 * np.pi) * SECTORS).astype(int)
-              % SECTORS)
+    sector = _sectors(darker.shape[0], centre)
     known = beyond & np.isfinite(darker)
     count = np.bincount(sector[known], minlength=SECTORS)
     total = np.bincount(sector[known], weights=darker[known], minlength=SECTORS)
     dark = (count >= MIN_CELLS) & (total >= min_contrast * np.maximum(count, 1))
     return zone & dark[sector]
+
+
+def _sector_level(local: np.ndarray, ring: np.ndarray, centre: np.ndarray, share: float = 25.0) -> np.ndarray:
+    """(size, size, C): for each cell's SECTORS direction from the object's `centre` (in cells), the mean
+    `local` shading of the darkest `share` percent of the `ring` cells beyond the zone in that direction (NaN
+    where it holds fewer than MIN_CELLS estimates). Where darkness runs on past the zone (a tree's band through
+    the object) this is the band's own level: what lies in the band is relit to it, not to the lit support
+    beside the band. The darkest share, not all: a band narrower than a sector leaves lit cells in its ring."""
+    sector = _sectors(local.shape[0], centre)
+    known = ring & np.isfinite(local).all(-1)
+    level = np.full((SECTORS, local.shape[-1]), np.nan)
+    luma = local @ LUMA
+    for k in range(SECTORS):
+        cells = known & (sector == k)
+        if cells.sum() >= MIN_CELLS:
+            level[k] = local[cells][luma[cells] <= np.percentile(luma[cells], share)].mean(0)
+    return level[sector]
+
+
+def _sectors(size: int, centre: np.ndarray) -> np.ndarray:
+    """(size, size) each cell's direction from `centre` (in cells), one of SECTORS."""
+    ii, jj = np.mgrid[0:size, 0:size]
+    return (np.floor((np.arctan2(ii - centre[0], jj - centre[1]) + np.pi) / (2 * np.pi) * SECTORS).astype(int)
+            % SECTORS)
 
 
 def _window_mean(size: int, ij: np.ndarray, values: np.ndarray, use: np.ndarray, width: int) -> np.ndarray:

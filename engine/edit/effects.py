@@ -146,8 +146,8 @@ class ShadowSearch:
 
     @property
     def surrounded(self) -> bool:
-        """The object stands in darkness that is not its own (a tree's band across it): the ground around it has no
-        lit reference that would tell its contact shade apart (engine.edit.contact_shade)."""
+        """The object stands in darkness that is not its own (a tree's band across it): no cast shadow is relit,
+        and the contact shade compares the darkness by it with the band's own level (engine.edit.contact_shade)."""
         return self.verdict == SURROUNDED
 
     def report(self) -> dict:

@@ -205,8 +205,8 @@ def test_no_shadow_is_claimed_where_a_band_from_out_of_view_runs_through_the_obj
     both sides of it: its own shadow falls where the tree's already does, so without the box the floor looks the
     same (held-out statue_s100: a trunk's band through the statue, and a low sun's cast along it was relit as
     the statue's shadow, the fill then painting lit slab into the band). A light from the other side finds the
-    band as dark, so there is nothing to relight, and no contact shade is looked for (`surrounded`: the band
-    beside the pedestal was relit as its contact shade on the H200 run, effect precision 0.21)."""
+    band as dark, so there is nothing to relight (`surrounded`: the contact shade then relights only what is darker
+    than the band beside it, test_a_band_running_on_past_the_darkening_is_left_dark_the_darkening_beside_it_relit)."""
     light = sun(30)
     floor, lit, _, truth, box = shadow_scene(light)
     u = light[:2] / np.linalg.norm(light[:2])
@@ -226,7 +226,7 @@ def test_no_shadow_is_claimed_where_the_surface_around_the_object_is_evenly_lit(
     search = search_of(gaussians(floor, lit), gaussians(box, np.full((len(box), 3), 0.9)), samples)
     assert search.shadow is None
     assert search.verdict == DETACHED and search.report()["receivers"] > 200  # no candidate's cast starts dark
-    assert not search.surrounded  # the contact shade is looked for
+    assert not search.surrounded
 
 
 def overhang_scene(darken: float):
@@ -301,14 +301,18 @@ def test_the_darkening_under_an_overhang_is_relit_to_the_floor_around_it_texture
 def test_a_band_running_on_past_the_darkening_is_left_dark_the_darkening_beside_it_relit():
     """A tree's band (|y| < 0.2) crosses the floor through the ball: dark on past the darkening's reach on both
     sides, so the ball did not cast it and gt/ keeps it (held-out statue_s100: the band beside the statue was
-    relit as its contact shade). The band's cells by the ball stay as seen; the darkening elsewhere is relit.
-    Unless the darkness is the ball's own cast shadow (`cast`), which the contact shade finishes relighting."""
+    relit as its contact shade). The band's cells by the ball are relit to the band's own level, not to the lit
+    floor: the ball's darkening goes, the band stays (held-out statue_s100 again: left as it was, the darkening
+    in the band was spread into the hole as a dark block); the band away from the ball stays as seen; the
+    darkening elsewhere is relit to the floor. Unless the darkness is the ball's own cast shadow (`cast`), which
+    the contact shade finishes relighting."""
     from engine.edit.contact_shade import find_contact_shade
     from engine.edit.effects import brighten
 
     floor, lit, seen, ball = overhang_scene(darken=0.2)
     band = np.abs(floor[:, 1]) < 0.2
     seen = np.where(band[:, None], linear_to_srgb(srgb_to_linear(seen) * 0.2), seen)
+    in_band = linear_to_srgb(srgb_to_linear(lit) * 0.2)  # the truth there: the band without the darkening
     up = np.array([0.0, 0.0, 1.0])
     core = object_core(gaussians(ball, np.full((len(ball), 3), 0.9)), up)
     remaining = gaussians(floor, seen)
@@ -317,8 +321,11 @@ def test_a_band_running_on_past_the_darkening_is_left_dark_the_darkening_beside_
     assert found is not None
     after = colors_of(brighten(remaining, found.shaded, found.gains))
     x, y, r = floor[:, 0], floor[:, 1], np.linalg.norm(floor[:, :2], axis=1)
-    by_ball = (np.abs(y) < 0.1) & (np.abs(x) > 0.45) & (np.abs(x) < 0.65)
-    assert by_ball.sum() > 100 and np.abs(after[by_ball] - seen[by_ball]).max() < 1e-5
+    by_ball = (np.abs(y) < 0.1) & (np.abs(x) > 0.45) & (np.abs(x) < 0.6)
+    error, was = np.abs(after[by_ball] - in_band[by_ball]).mean(), np.abs(seen[by_ball] - in_band[by_ball]).mean()
+    assert by_ball.sum() > 100 and error < 0.35 * was, (error, was)
+    away = (np.abs(y) < 0.1) & (np.abs(x) > 0.75)
+    assert np.abs(after[away] - seen[away]).max() < 1e-5
     beside = (r < 0.35) & (np.abs(y) > 0.3)
     assert np.abs(after[beside] - lit[beside]).mean() < 0.25 * np.abs(seen[beside] - lit[beside]).mean()
     # the same darkness as the object's own cast shadow (relit before, its rim left): relit as its contact shade
