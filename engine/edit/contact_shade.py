@@ -14,7 +14,7 @@ shadow's missed rim, about half of the error outside the hole). Found as a shadi
    Where the darkness runs on past the zone, the reference is that darkness: darkening from the object fades
    within reach of it, and where the lit ring beyond is as dark in the same direction from the object,
    something else darkens there (a tree's band through the object) and gt/ keeps it (`_running_on`); the
-   cells there are compared with the darkest of the ring in their direction (`_sector_level`), so the band
+   cells there are compared with the darkest of the ring in their direction (`_band_cells`), so the band
    stays and only what the object added to it goes. Not the object's own cast shadow, whose rim its relight
    left, nor other objects and their shadows (tiny CPU livingroom s7: -0.23 dB if so).
 3. Cells darker than their reference by more than `min_contrast` (log-luminance) are shaded; the support's
@@ -111,15 +111,17 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
         if part is not None:
             theirs |= part
     ring = beyond & ~_explained(site, means[theirs], window)
-    centre = np.argwhere(above).mean(0)
-    runs_on = _running_on(darker, zone, ring, centre, min_contrast)
-    level = _sector_level(local, ring, centre)
-    darker = np.where(runs_on, (level - local) @ LUMA / LUMA.sum(), darker)
+    sector = _sectors(grid.size, np.argwhere(above).mean(0))
+    runs_on = _running_on(darker, zone, ring, sector, min_contrast)
+    band = _band_cells(local, ring, sector) if runs_on.any() else None
+    if band is not None:
+        darker = np.where(runs_on, (_sector_mean(local, band, sector) - local) @ LUMA / LUMA.sum(), darker)
     weight = np.where(zone & np.isfinite(darker), darker_share(darker, min_contrast), 0.0)
     if not (weight > 0.5).any():
         return None
     local, reference = shading(np.log(srgb_to_linear(shown_colors) + LINEAR_EPS))  # undone in linear ones
-    reference = np.where(runs_on[..., None], _sector_level(local, ring, centre), reference)
+    if band is not None:
+        reference = np.where(runs_on[..., None], _sector_mean(local, band, sector), reference)
     gain = np.exp(weight[..., None] * np.nan_to_num(reference - local))
     gain = np.clip(cv2.blur(gain.astype(np.float32), (3, 3)), 1.0, most ** 2.4)
     weight = cv2.blur(weight.astype(np.float32), (3, 3))
@@ -138,14 +140,13 @@ def _explained(site: Site, points: np.ndarray, window: int) -> np.ndarray:
     return dilate(site.grid.raster(site.frame.flat(points), site.spacing), window)
 
 
-def _running_on(darker: np.ndarray, zone: np.ndarray, beyond: np.ndarray, centre: np.ndarray, min_contrast: float
+def _running_on(darker: np.ndarray, zone: np.ndarray, beyond: np.ndarray, sector: np.ndarray, min_contrast: float
                 ) -> np.ndarray:
-    """(size, size) bool: the `zone` cells in a direction from the object's `centre` (in cells) whose ring
+    """(size, size) bool: the `zone` cells in a direction from the object (`sector`, _sectors) whose ring
     `beyond` the zone is, on the mean, `min_contrast` darker than its reference too: darkness that runs on past
     the zone, which the object did not cast (held-out statue_s100: a tree's band through the statue, relit
     beside it as its contact shade once no cast shadow was found there). A direction whose ring holds too
     few estimates (off the support) says nothing."""
-    sector = _sectors(darker.shape[0], centre)
     known = beyond & np.isfinite(darker)
     count = np.bincount(sector[known], minlength=SECTORS)
     total = np.bincount(sector[known], weights=darker[known], minlength=SECTORS)
@@ -153,21 +154,30 @@ def _running_on(darker: np.ndarray, zone: np.ndarray, beyond: np.ndarray, centre
     return zone & dark[sector]
 
 
-def _sector_level(local: np.ndarray, ring: np.ndarray, centre: np.ndarray, share: float = 25.0) -> np.ndarray:
-    """(size, size, C): for each cell's SECTORS direction from the object's `centre` (in cells), the mean
-    `local` shading of the darkest `share` percent of the `ring` cells beyond the zone in that direction (NaN
-    where it holds fewer than MIN_CELLS estimates). Where darkness runs on past the zone (a tree's band through
-    the object) this is the band's own level: what lies in the band is relit to it, not to the lit support
-    beside the band. The darkest share, not all: a band narrower than a sector leaves lit cells in its ring."""
-    sector = _sectors(local.shape[0], centre)
+def _band_cells(local: np.ndarray, ring: np.ndarray, sector: np.ndarray, share: float = 25.0) -> np.ndarray:
+    """(size, size) bool: in each direction from the object (`sector`, _sectors) whose `ring` beyond the zone
+    holds at least MIN_CELLS shading estimates (`local`), the darkest `share` percent of them. Where darkness runs
+    on past the zone (a tree's band through the object) their shading is the band's own level: what lies in the
+    band is relit to it, not to the lit support beside the band. The darkest share, not all: a band narrower
+    than a sector leaves lit cells in its ring."""
     known = ring & np.isfinite(local).all(-1)
-    level = np.full((SECTORS, local.shape[-1]), np.nan)
     luma = local @ LUMA
+    band = np.zeros_like(known)
     for k in range(SECTORS):
         cells = known & (sector == k)
         if cells.sum() >= MIN_CELLS:
-            level[k] = local[cells][luma[cells] <= np.percentile(luma[cells], share)].mean(0)
-    return level[sector]
+            band |= cells & (luma <= np.percentile(luma[cells], share))
+    return band
+
+
+def _sector_mean(values: np.ndarray, cells: np.ndarray, sector: np.ndarray) -> np.ndarray:
+    """(size, size, C): each cell's direction's (`sector`) mean of the `values` (size, size, C) over `cells`
+    (NaN where that direction has none)."""
+    count = np.bincount(sector[cells], minlength=SECTORS)
+    sums = np.stack([np.bincount(sector[cells], weights=values[cells][:, c], minlength=SECTORS)
+                     for c in range(values.shape[-1])], -1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return (sums / count[:, None])[sector]
 
 
 def _sectors(size: int, centre: np.ndarray) -> np.ndarray:

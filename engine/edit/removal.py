@@ -293,7 +293,7 @@ def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions:
     contact shade leaves as it is, the other objects and the support in their own cast shadows (Shadow.theirs);
     `cast` (bool over `remaining`): the object's own cast shadow, relit (find_contact_shade's `cast`). Where the
     object stands in darkness not its own (ShadowSearch.surrounded: a tree's band through it) the contact shade
-    still runs: it relights the band's cells to the band's own level (contact_shade._sector_level), so what the
+    still runs: it relights the band's cells to the band's own level (contact_shade._band_cells), so what the
     object added goes and the band stays (without it, held-out statue_s100's pedestal shade stayed in the band and
     the fill spread it as a dark block; before the band level, the band itself was relit, effect precision 0.21).
     Apart so that a study of the shadow's relight can finish its variants exactly as removal does."""
