@@ -147,7 +147,8 @@ class ShadowSearch:
     @property
     def surrounded(self) -> bool:
         """The object stands in darkness that is not its own (a tree's band across it): no cast shadow is relit,
-        and the contact shade compares the darkness by it with the band's own level (engine.edit.contact_shade)."""
+        and no contact shade is looked for (removal.undo_darkening's `shade`: relit to the band's level it measured
+        worse on held-out statue_s100)."""
         return self.verdict == SURROUNDED
 
     def report(self) -> dict:
