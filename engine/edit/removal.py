@@ -184,8 +184,8 @@ def run_removal(config: RemovalConfig) -> dict:
         others = np.concatenate([others, np.zeros(effects.laid, bool)])  # the patch laid is support
         remaining, diffuse = diffuse_support(remaining, core, plane, scene.cameras, regions, scene.train, others,
                                              EffectsConfig())
-        if diffuse:
-            after = list(render_pictures(remaining, scene.cameras, run.sh_degree, device))
+        if diffuse:  # colours only: no surface moved
+            after = _rerendered(run, remaining, after, device)
     shadow = effects.search.shadow if effects else None
     with atomic_output_dir(out) as tmp_root:
         tmp = RemovedLayout(tmp_root)

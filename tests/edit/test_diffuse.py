@@ -10,6 +10,7 @@ from engine.edit.diffuse import diffuse_support, hidden_share
 from engine.edit.effects import EffectsConfig
 from engine.edit.support_plane import object_core, object_support
 from engine.formats.cameras import Camera, project
+from engine.io.masks import dilate
 from tests.gaussian_grids import SPACING, gaussians
 
 W, H, F = 96, 72, 80.0
@@ -38,10 +39,7 @@ def region_of(camera: Camera, box: np.ndarray) -> np.ndarray:
     mask = np.zeros((H, W), bool)
     ok = (z > 0) & (u >= 0) & (u < W) & (v >= 0) & (v < H)
     mask[v[ok].astype(int), u[ok].astype(int)] = True
-    grown = mask.copy()
-    for dy, dx in ((0, 1), (0, -1), (1, 0), (-1, 0)):
-        grown |= np.roll(mask, (dy, dx), (0, 1))
-    return grown
+    return dilate(mask, 1)
 
 
 def floor_and_box():
