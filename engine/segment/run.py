@@ -356,8 +356,8 @@ def _clicked(run, means: np.ndarray, config: SegmentConfig, device: torch.device
     """The object under a click: the rendered surface at pixel (U, V) of --view lifted to 3D, and the proposal
     (engine.segment.proposals: a piece off every support plane, its faint Gaussians joined) under it, with the
     pieces touching it there (`pieces_under`), unless another proposal is what renders at the pixel
-    (`rendered_under`): then that one. A click on the floor or a wall gives the object nearest to where it
-    landed."""
+    (`rendered_under`): then that one. A pick that does not render at the click (`renders_at`: a click on the
+    floor or a wall, or a piece behind a floater) is refused with one line, so the user clicks again."""
     scene: Scene = run.scene
     names = [c.name for c in scene.cameras]
     if len(config.point) != 2 or config.view not in names:
@@ -380,7 +380,22 @@ def _clicked(run, means: np.ndarray, config: SegmentConfig, device: torch.device
         raise InputError(f"{run.root} has no object off its support planes near --point: use --box")
     near = pieces_under(means, ids, target, 2 * stats["voxel"])
     seen = rendered_under(run.gaussians, run.sh_degree, ids, camera, (u, v), device)
-    return np.isin(ids, near if seen == 0 or seen in near else [seen])
+    chosen = np.isin(ids, near if seen == 0 or seen in near else [seen])
+    if not renders_at(run.gaussians, run.sh_degree, chosen, camera, (u, v), device):
+        raise InputError(f"no object off the support planes renders at --point {u:g} {v:g} of {config.view} (the "
+                         f"pieces nearest the surface there, proposals {near.tolist()}, render elsewhere): click "
+                         "nearer the object's middle or in another view, or use --box")
+    return chosen
+
+
+def renders_at(gaussians: Gaussians, sh_degree: int, chosen: np.ndarray, camera: Camera,
+               pixel: tuple[float, float], device: torch.device, reach_px: int = 2) -> bool:
+    """Whether the `chosen` Gaussians dominate a pixel within `reach_px` of the click. Why: a pick the user
+    cannot see where they clicked is a wrong pick (a floater's piece, a sliver behind the object), and saying so
+    lets them click again, where a silent one would be removed in their stead."""
+    mask = instance_masks(gaussians, chosen.astype(np.int64), [camera], sh_degree, device)[0]
+    u, v = int(pixel[0]), int(pixel[1])
+    return bool(mask[max(v - reach_px, 0):v + reach_px + 1, max(u - reach_px, 0):u + reach_px + 1].any())
 
 
 def rendered_under(gaussians: Gaussians, sh_degree: int, ids: np.ndarray, camera: Camera,

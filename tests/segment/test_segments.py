@@ -24,6 +24,7 @@ from engine.segment.run import (
     lift_masks,
     pieces_under,
     rendered_under,
+    renders_at,
     renumber,
     run_segment,
     subject_supports,
@@ -139,24 +140,34 @@ def test_auto_says_when_its_subject_may_not_be_the_one(stats: dict, says: str | 
 
 
 def test_a_click_in_one_view_gives_the_object_under_it(run_copy: Path):
-    """--point at the target's pixel centre in one training view (where the exact mask says it is): the object
-    made covers the target on the test views; a click outside the image is refused with one line."""
+    """--point at the target's pixel centre in a training view (where the exact mask says it is), as a user
+    clicks: the object made covers the target on the test views. A click the code refuses (nothing it can pick
+    renders there) is answered with one line, and the user clicks in the next view; a click outside the image is
+    refused with one line."""
     scene = load_run_scene(run_copy)
-    i = next(i for i in scene.train if (scene.masks[i] == scene.target.id).sum() > 30)
-    rows, cols = np.nonzero(scene.masks[i] == scene.target.id)
-    u, v = float(np.median(cols)) + 0.5, float(np.median(rows)) + 0.5
-    run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), point=[u, v], view=scene.cameras[i].name,
-                                                  name="clicked", device="cpu"))
+    refused = []
+    for i in [i for i in scene.train if (scene.masks[i] == scene.target.id).sum() > 30]:
+        rows, cols = np.nonzero(scene.masks[i] == scene.target.id)
+        u, v = float(np.median(cols)) + 0.5, float(np.median(rows)) + 0.5
+        try:
+            report = run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), point=[u, v], name="clicked",
+                                                                   view=scene.cameras[i].name, device="cpu"))
+            break
+        except InputError as refusal:
+            assert "renders at --point" in str(refusal)
+            refused.append(str(refusal))
+    else:
+        pytest.fail(f"every click on the target refused: {refused}")
+    assert len(refused) <= 2, refused  # nine runs here refused none
     found = load_run_scene(run_copy)
     assert [o.name for o in found.objects] == ["clicked"]
     # the object under the click, mostly: how much of the target it covers on the held-out views varies with
-    # the tiny run (IoU 0.62 to 0.91 over training seeds 0-3 here, 0.49 in CI; on seed 2 faint Gaussians that
-    # only the test view sees lie in front of the plush), what it takes beyond the target less (precision 0.90
-    # to 0.99)
+    # the tiny run (IoU 0.42 to 0.95 over training seeds 0-8 with AVX-512 and AVX2 kernels here; the plush's
+    # lowest Gaussians stay with the sofa's seat), what it takes beyond the target less (precision 0.83 to 0.99)
     picked = np.concatenate([found.masks[k].ravel() == 1 for k in scene.test])
     truth = np.concatenate([scene.masks[k].ravel() == scene.target.id for k in scene.test])
     precision, overlap = (picked & truth).sum() / max(picked.sum(), 1), iou(picked, truth)
-    assert precision >= 0.8 and overlap >= 0.4, (precision, overlap)
+    assert precision >= 0.8 and overlap >= 0.35, (precision, overlap, report, refused)
     with pytest.raises(InputError, match="lies outside"):
         run_segment(load_run(run_copy), SegmentConfig(run=str(run_copy), point=[1e4, 1.0], name="far",
                                                       view=scene.cameras[i].name, device="cpu"))
@@ -189,6 +200,10 @@ def test_a_click_takes_the_proposal_that_renders_under_it_not_a_hidden_or_faint_
     camera = Camera("0000.png", 64, 48, 60.0, 60.0, 32.0, 24.0, np.eye(3), np.zeros(3))
     assert rendered_under(splats, 0, ids, camera, (32.5, 24.5), torch.device("cpu")) == 5
     assert rendered_under(splats, 0, ids, camera, (3.5, 3.5), torch.device("cpu")) == 0
+    # the pick is checked against what renders at the click: the body does, the hidden piece and the sliver not
+    assert renders_at(splats, 0, ids == 5, camera, (32.5, 24.5), torch.device("cpu"))
+    assert not renders_at(splats, 0, ids == 2, camera, (32.5, 24.5), torch.device("cpu"))
+    assert not renders_at(splats, 0, ids == 7, camera, (32.5, 24.5), torch.device("cpu"))
 
 
 def test_lifting_joins_segments_that_share_gaussians_whatever_their_ids():
