@@ -209,11 +209,11 @@ def _turntable(job: CompletionJob) -> Path | None:
                                           device=str(job.device)))
 
 
-def _kept(job: CompletionJob) -> float | None:
-    """PSNR against the removed scene outside the holes as inpainted (engine.complete.scoring.psnr_kept);
-    None where the run has no holes folder."""
+def _kept(job: CompletionJob) -> tuple[float | None, dict | None]:
+    """PSNR against the removed scene outside the holes as inpainted, and per test view where the changes lie
+    (engine.complete.scoring.psnr_kept); None where the run has no holes folder."""
     if not job.holes.root.is_dir():
-        return None
+        return None, None
     scene = job.original.scene
     grown = read_masks(job.holes.root, scene.cameras, inpainted_dilation(job.inpainted))
     return psnr_kept(scene, job.out.renders, job.removed, grown)
@@ -225,7 +225,7 @@ def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | Non
     scorer = Scorer(ScoreConfig(lpips_backbone=config.lpips_backbone, lpips_heads=config.lpips_heads,
                                 fid_weights=config.fid_weights, device=str(job.device)))
     scores = score_run(out.run.root, scorer, renders=out.renders, scene=job.original.scene, removed=job.removed)
-    scores.values["psnr_kept"] = _kept(job)
+    scores.values["psnr_kept"], kept_views = _kept(job)
     baseline = score_removed(job.original.scene, job.removed, scorer)
     name = job.method.title(config.inpainter, job.options)
     settings = {k: v for k, v in dataclasses.asdict(config).items() if k != "options"} | job.options
@@ -237,6 +237,7 @@ def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | Non
               "gaussians": metrics["gaussians"], "scores": scores.values, "unavailable": scores.unavailable,
               "removed_scores": baseline.values, "oracle_scores": score_oracles(job.original.scene),
               "recolmap": colmap, "kept_to_hole": metrics.get("kept_to_hole"),
+              "kept_views": kept_views,
               "turntable": video and str(video.relative_to(out.root)), "gpu": gpu_name(job.device),
               "versions": versions()}
     partial = out.root / ".scores.json.tmp"

@@ -349,6 +349,9 @@ def test_a_warm_init_trains_only_what_renders_into_the_hole_and_leaves_the_rest_
     assert report["kept_to_hole"]["fixed"] == n
     assert hole_bound(trained.gaussians["means"][n:].numpy(), job.original.scene, ringed, depths).all()
     scene = trained.scene
+    # the kept score comes with where each test view changed (engine.complete.scoring.kept_changes)
+    assert set(report["kept_views"]) == {scene.cameras[i].name for i in scene.test}
+    assert all(0 <= v["changed_share"] <= 1 for v in report["kept_views"].values())
     grown = read_masks_grown(stages["holes"], scene.cameras, inpainted)
     for camera, picture in zip(scene.cameras, render_pictures(trained.gaussians, scene.cameras, trained.sh_degree,
                                                               "cpu"), strict=True):
