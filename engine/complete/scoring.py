@@ -137,8 +137,7 @@ def kept_changes(after: np.ndarray, before: np.ndarray, outside: np.ndarray) -> 
     changed = (diff > CHANGED_LEVELS) & outside
     near = dilate(~outside, NEAR_HOLE_PX)
     count = max(int(outside.sum()), 1)
-    err = ((after.astype(np.float64) - before) / 255.0)[outside]
-    value = psnr_from_mse(float((err ** 2).mean())) if outside.any() else float("nan")
-    return {"psnr": round(value, 2) if np.isfinite(value) else None,  # None: nothing outside, or nothing changed
+    value = reference_free([after], [before], [outside]).values["psnr_outside"]
+    return {"psnr": round(value, 2) if value is not None and np.isfinite(value) else None,  # nothing outside or changed
             "changed_share": round(int(changed.sum()) / count, 5),
             "changed_near_hole": round(int((changed & near).sum()) / max(int(changed.sum()), 1), 3)}
