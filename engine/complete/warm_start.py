@@ -18,7 +18,14 @@ import numpy as np
 
 from engine.base.errors import InputError
 from engine.complete.finetune import hole_gaussians, nearest_identity, reference_views
-from engine.complete.hole_region import changeable, check_movable, fit_to_holes, hole_bound, split_at_hole
+from engine.complete.hole_region import (
+    changeable,
+    check_movable,
+    fit_to_holes,
+    hole_bound,
+    occluding_depths,
+    split_at_hole,
+)
 from engine.formats.layout import InpaintedLayout, RemovedLayout
 from engine.inpaint.run import inpainted_dilation
 from engine.io.gaussians import PARAM_NAMES, Gaussians, concat
@@ -37,8 +44,8 @@ def warm_setup(job, settings: TrainConfig) -> tuple[TrainConfig, dict]:
     first step; a tenth of the base run's steps unless the user gave --steps; only views with a hole drawn;
     the budget what the fixed Gaussians leave of the base run's (at least the start)."""
     scene = job.original.scene
-    holes, surfaces = _hole_views(job)
     removed = load_ply(job.removed.point_cloud)
+    holes, surfaces = _hole_views(job, removed)
     movable, fixed = split_at_hole(removed, changeable(removed, scene, holes, surfaces))
     seeds = _seeds(job, holes, surfaces, removed, settings.sh_degree)
     start = concat(movable, seeds)
@@ -54,14 +61,14 @@ def warm_setup(job, settings: TrainConfig) -> tuple[TrainConfig, dict]:
                     "classifier": copy.deepcopy(job.original.classifier)}
 
 
-def _hole_views(job) -> tuple[dict[int, np.ndarray], dict[int, np.ndarray]]:
-    """Each view's hole as the inpainting filled it (its dilation) and the removed scene's rendered depth."""
+def _hole_views(job, removed: Gaussians) -> tuple[dict[int, np.ndarray], dict[int, np.ndarray]]:
+    """Each view's hole as the inpainting filled it (its dilation) and the depth at which `removed` (the removed
+    scene) hides what lies behind (hole_region.occluding_depths)."""
     scene = job.original.scene
     if not job.holes.root.is_dir():
         raise InputError(f"{job.holes.root} missing: run `python -m engine holes` on the run first")
     holes = read_masks(job.holes.root, scene.cameras, inpainted_dilation(job.inpainted))
-    surfaces = {i: read_depth(job.removed.depth / exr_name(c.name)) for i, c in enumerate(scene.cameras)}
-    return holes, surfaces
+    return holes, occluding_depths(removed, scene.cameras, job.device)
 
 
 def graft(job) -> dict:
@@ -79,8 +86,8 @@ def graft(job) -> dict:
     from engine.io.ply_io import save_classifier
 
     scene, layout = job.original.scene, job.out.run
-    holes, surfaces = _hole_views(job)
     removed, trained = load_ply(job.removed.point_cloud), load_ply(layout.point_cloud)
+    holes, surfaces = _hole_views(job, removed)
     fixed = split_at_hole(removed, changeable(removed, scene, holes, surfaces))[1]
     inside = _kept_to_holes(trained, scene, holes, surfaces)
     if len(inside["means"]):
@@ -102,8 +109,8 @@ def confine(job, warm: bool) -> dict:
     share of the budget) and its test views outside the holes fell to 23.9 dB against the removed scene's renders,
     with a streak where the statue stood (5e5ff92, `docs/results/capture/statue.json`)."""
     scene, layout = job.original.scene, job.out.run
-    holes, surfaces = _hole_views(job)
     removed, now = load_ply(job.removed.point_cloud), load_ply(layout.point_cloud)
+    holes, surfaces = _hole_views(job, removed)
     fixed_count = (int((~changeable(removed, scene, holes, surfaces)).sum()) if warm  # warm_setup's split, again
                    else len(removed["means"]))
     fixed = {k: now[k][:fixed_count].float() for k in PARAM_NAMES}

@@ -344,7 +344,7 @@ def test_a_warm_init_trains_only_what_renders_into_the_hole_and_leaves_the_rest_
     assert all(torch.equal(trained.gaussians[k][:n], fixed[k]) for k in ("means", "scales", "opacities", "sh0"))
     # what trained stays in the hole in every view, the test views no step drew included (on a tiny run of training
     # seed 1, 6 of 351 trained Gaussians had left it and were dropped: warm_start.confine)
-    holes, depths = _hole_views(job)
+    holes, depths = _hole_views(job, removed)
     ringed = {i: dilate(hole, GRAFT_RING_PX) for i, hole in holes.items()}
     assert report["kept_to_hole"]["fixed"] == n
     assert hole_bound(trained.gaussians["means"][n:].numpy(), job.original.scene, ringed, depths).all()

@@ -41,6 +41,44 @@ def test_only_what_every_view_shows_inside_its_hole_may_change():
     assert hole_bound(points, scene_of(cams), holes, hidden).tolist() == [True, True, False]
 
 
+
+def sheet(x: tuple[float, float], y: tuple[float, float], z: float, opacity: float, step: float = 0.1) -> dict:
+    """Round Gaussians (sigma 0.7 x step) on a grid over x by y at depth z: a surface, or a haze in front of one."""
+    import torch
+
+    xs, ys = np.meshgrid(np.arange(x[0], x[1] + 1e-9, step), np.arange(y[0], y[1] + 1e-9, step))
+    means = torch.tensor(np.stack([xs.ravel(), ys.ravel(), np.full(xs.size, z)], 1), dtype=torch.float32)
+    n = len(means)
+    return {"means": means, "quats": torch.tensor([[1.0, 0, 0, 0]] * n),
+            "scales": torch.full((n, 3), float(np.log(0.7 * step))),
+            "opacities": torch.full((n,), float(np.log(opacity / (1 - opacity))))}
+
+
+def test_a_gaussian_seen_through_haze_outside_the_hole_stays_fixed():
+    """The first test's wall seen through a haze halfway to it (a capture's floaters): the haze passes the half
+    opacity a render's surface depth takes, so by that depth the left camera would not see the point outside its hole
+    and the completion could move it; by occluding_depths the left camera sees it through the haze, and it stays."""
+    import torch
+
+    from engine.complete.hole_region import occluding_depths
+    from engine.render.rasterize import CameraTensors
+    from engine.render.surface_depth import surface_depth
+
+    cams = [camera("left.png", -0.2), camera("right.png", 0.2)]
+    wall, haze = sheet((-3.5, 3.5), (-2.5, 2.5), 0.0, 0.99), sheet((-1.5, 1.5), (-1.0, 1.0), -2.0, 0.3)
+    removed = {k: torch.cat([wall[k], haze[k]]) for k in wall}
+    _, haze_alpha = surface_depth(haze, CameraTensors.from_camera(cams[0], "cpu"), "reference")
+    assert 0.5 < float(haze_alpha[H // 2, W // 2]) < 0.9  # see-through, yet past one half
+    hole = np.zeros((H, W), bool)
+    hole[10:20, 14:26] = True
+    holes = {0: hole, 1: hole}
+    points = np.array([[0.0, 0.0, 0.0], [0.65, 0.0, 0.0], [2.0, 0.0, 0.0]])
+    shown = {i: surface_depth(removed, CameraTensors.from_camera(c, "cpu"), "reference")[0].numpy()
+             for i, c in enumerate(cams)}
+    assert hole_bound(points, scene_of(cams), holes, shown).tolist() == [True, True, False]  # the haze hid it
+    depths = occluding_depths(removed, cams, torch.device("cpu"))
+    assert hole_bound(points, scene_of(cams), holes, depths).tolist() == [True, False, False]
+
 def square_hole() -> np.ndarray:
     """A 14 px square around the image centre: +-7 px, 0.93 world units at the wall (7.5 px a unit)."""
     hole = np.zeros((H, W), bool)
