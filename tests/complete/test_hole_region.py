@@ -41,7 +41,6 @@ def test_only_what_every_view_shows_inside_its_hole_may_change():
     assert hole_bound(points, scene_of(cams), holes, hidden).tolist() == [True, True, False]
 
 
-
 def sheet(x: tuple[float, float], y: tuple[float, float], z: float, opacity: float, step: float = 0.1) -> dict:
     """Round Gaussians (sigma 0.7 x step) on a grid over x by y at depth z: a surface, or a haze in front of one."""
     import torch
@@ -78,6 +77,7 @@ def test_a_gaussian_seen_through_haze_outside_the_hole_stays_fixed():
     assert hole_bound(points, scene_of(cams), holes, shown).tolist() == [True, True, False]  # the haze hid it
     depths = occluding_depths(removed, cams, torch.device("cpu"))
     assert hole_bound(points, scene_of(cams), holes, depths).tolist() == [True, False, False]
+
 
 def square_hole() -> np.ndarray:
     """A 14 px square around the image centre: +-7 px, 0.93 world units at the wall (7.5 px a unit)."""

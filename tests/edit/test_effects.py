@@ -219,7 +219,6 @@ def test_no_shadow_is_claimed_where_a_band_from_out_of_view_runs_through_the_obj
     assert search.surrounded
 
 
-
 def test_darkness_as_dark_all_around_is_the_surroundings_whichever_test_turns_the_candidate_down():
     """The verdicts held-out runs read on one H200 (contrast, chance, darkest 90+ degrees away): statue_s100 at
     4f9a245, a tree's band across the pedestal, failed the chance test first and had read 'no candidate', which left
