@@ -209,9 +209,10 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
                                          inside[judged])
     evidence.update(contrast=score, chance_contrast=chance,  # no footprint far enough away: None, JSON has no -inf
                     darkest_elsewhere=elsewhere if np.isfinite(elsewhere) else None)
-    verdict = turned_down(score, chance, elsewhere, config.min_contrast)
-    if verdict:
-        return ShadowSearch(None, verdict, evidence)
+    if not score - chance >= config.min_contrast:
+        return ShadowSearch(None, "no candidate darker than chance by min_contrast", evidence)
+    if not score - elsewhere >= config.min_contrast:
+        return ShadowSearch(None, SURROUNDED, evidence)
     cast = grid.raster(frame.cast(obj, light), site.spacing)
     cast = grown(cast, 1)
     shadowed = around(means, config.band_below, site.reach_up(remaining))
@@ -319,20 +320,6 @@ def their_shadows(site: Site, light: np.ndarray, means: np.ndarray, others: np.n
     cast = site.grid.raster(site.frame.cast(theirs, light), surface_spacing(theirs[pick]))
     return (site.grid.cells(cast, site.frame.cast(means, light)) & ~others,
             site.grid.cells(cast, site.frame.cast(points, light)))
-
-
-def turned_down(score: float, chance: float, elsewhere: float, min_contrast: float) -> str | None:
-    """Why the best candidate shadow (its contrast `score`) is no shadow of the object's, or None where it is one:
-    no darker than chance, or a light 90+ degrees away (`elsewhere`, the darkest of them) about as dark. Where the
-    darkness 90+ degrees away is itself a shadow's (at least `min_contrast`) and within `min_contrast` of the best,
-    the object stands in darkness not its own whichever test fails first: held-out statue_s100 on one H200 (a tree's
-    band across the pedestal) read 'surrounded' at dd16d65 (0.537 against 0.516 elsewhere) and 'no candidate' at
-    4f9a245 (0.522 against chance 0.552, 0.500 elsewhere), which left its contact shade on (ShadowSearch.surrounded)
-    and relit 3,906 Gaussians of the band by up to 3.7x."""
-    surrounded = elsewhere >= min_contrast and not score - elsewhere >= min_contrast
-    if not score - chance >= min_contrast:  # NaN reads as no candidate, as it did
-        return SURROUNDED if surrounded else "no candidate darker than chance by min_contrast"
-    return SURROUNDED if not score - elsewhere >= min_contrast else None
 
 
 def _chance_contrast(grid: PlaneGrid, frame: PlaneFrame, light: tuple[float, float], obj: np.ndarray,

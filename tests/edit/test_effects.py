@@ -219,20 +219,6 @@ def test_no_shadow_is_claimed_where_a_band_from_out_of_view_runs_through_the_obj
     assert search.surrounded
 
 
-def test_darkness_as_dark_all_around_is_the_surroundings_whichever_test_turns_the_candidate_down():
-    """The verdicts held-out runs read on one H200 (contrast, chance, darkest 90+ degrees away): statue_s100 at
-    4f9a245, a tree's band across the pedestal, failed the chance test first and had read 'no candidate', which left
-    its contact shade on; wallmount_s100's faint candidate (nothing as dark elsewhere) and an evenly lit tabletop stay
-    'no candidate'; a found shadow (livingroom_s100) and the band of dd16d65 keep their verdicts."""
-    from engine.edit.effects import SURROUNDED, turned_down
-
-    no_candidate = "no candidate darker than chance by min_contrast"
-    assert turned_down(0.522, 0.552, 0.500, 0.15) == SURROUNDED
-    assert turned_down(0.199, 0.158, 0.133, 0.15) == no_candidate
-    assert turned_down(-0.224, 0.001, -0.3, 0.15) == no_candidate
-    assert turned_down(0.454, 0.005, 0.078, 0.15) is None
-    assert turned_down(0.537, 0.20, 0.516, 0.15) == SURROUNDED
-
 def test_no_shadow_is_claimed_where_the_surface_around_the_object_is_evenly_lit():
     floor, lit, _, _, box = shadow_scene(np.array([0.0, 0.6, 0.8]))
     rng = np.random.default_rng(1)
