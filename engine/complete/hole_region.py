@@ -55,9 +55,8 @@ def occluding_depths(gaussians: Gaussians, cameras: list[Camera], device: torch.
     on_device = {k: v.to(device) for k, v in gaussians.items()}
     depths = {}
     for i, camera in enumerate(cameras):
-        depth, alpha = surface_depth(on_device, CameraTensors.from_camera(camera, device), default_backend(device),
-                                     level=HIDDEN_ALPHA)
-        depth = torch.where(alpha >= HIDDEN_ALPHA, depth, torch.full_like(depth, float("inf")))
+        depth = surface_depth(on_device, CameraTensors.from_camera(camera, device), default_backend(device),
+                              level=HIDDEN_ALPHA)[0]
         depths[i] = depth.float().cpu().numpy()
     return depths
 

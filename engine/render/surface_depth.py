@@ -37,8 +37,8 @@ def depth_bins(z: torch.Tensor, in_view: torch.Tensor, bins: int = BINS) -> torc
 @torch.no_grad()
 def surface_depth(gaussians: Gaussians, camera: CameraTensors, backend: str, level: float = SURFACE_ALPHA
                   ) -> tuple[torch.Tensor, torch.Tensor]:
-    """(H, W) z-depth of the surface each pixel shows (inf where its opacity stays below 1/2) and (H, W)
-    alpha."""
+    """(H, W) z-depth where each pixel's accumulated opacity passes `level` (the surface it shows at the default;
+    inf where its opacity stays below `level`, or below 1/2 for a lower one) and (H, W) alpha."""
     means = gaussians["means"]
     cam = means @ camera.viewmat[:3, :3].T + camera.viewmat[:3, 3]
     z = cam[:, 2]
@@ -53,4 +53,4 @@ def surface_depth(gaussians: Gaussians, camera: CameraTensors, backend: str, lev
     surface_bin = (weight.cumsum(-1) < level).sum(-1, keepdim=True).clamp_max(BINS - 1)
     depth = (weighted_z.gather(-1, surface_bin) / weight.gather(-1, surface_bin).clamp_min(1e-10))[..., 0]
     alpha = alpha[..., 0]
-    return torch.where(alpha >= SURFACE_ALPHA, depth, torch.full_like(depth, float("inf"))), alpha
+    return torch.where(alpha >= max(level, SURFACE_ALPHA), depth, torch.full_like(depth, float("inf"))), alpha
