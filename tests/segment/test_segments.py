@@ -189,6 +189,37 @@ def test_a_click_takes_every_piece_that_meets_where_it_landed():
     assert list(pieces_under(means, ids, np.array([0.5, 0.1, 0.1]), reach=0.04)) == [4]
 
 
+def test_a_wall_through_the_clicked_object_is_a_slice_of_it_and_a_wall_behind_it_stays():
+    """A floor, a wall at x = -0.8 reaching across the orbit, and a ball on the floor holding a plane of its own
+    Gaussians (x = 0, its solid ones 15 degrees off vertical on a tiny run: taken for a wall, the plush was no
+    proposal and the click took a piece inside it). A click on the ball drops the slice and keeps the wall; the
+    ball is then free of the supports. A click beside the wall keeps it."""
+    from engine.geometry.scene_geometry import Supports, free_of
+    from engine.segment.run import clicked_supports
+
+    rng = np.random.default_rng(0)
+    grid = np.linspace(-1.0, 1.0, 41)
+    floor = np.stack(np.meshgrid(grid, grid, [0.0]), -1).reshape(-1, 3)
+    wall = np.stack(np.meshgrid([-0.8], grid, np.linspace(0.0, 1.5, 31)), -1).reshape(-1, 3)
+    ball = rng.normal(size=(600, 3))
+    ball = 0.15 * ball / np.linalg.norm(ball, axis=1, keepdims=True) + [0.0, 0.0, 0.2]
+    ys, zs = np.meshgrid(np.linspace(-0.12, 0.12, 9), np.linspace(0.08, 0.32, 9))
+    slice_ = np.stack([np.zeros(ys.size), ys.ravel(), zs.ravel()], 1)
+    means = np.concatenate([floor, wall, ball, slice_])
+    frame, config = Frame(np.zeros(3), 1.0, np.array([0.0, 0.0, 1.0])), SegmentConfig()
+    planes, walls = [(np.array([0.0, 0.0, 1.0]), 0.0)], [(np.array([1.0, 0.0, 0.0]), 0.8),
+                                                          (np.array([1.0, 0.0, 0.0]), 0.0)]
+    near, tol = np.ones(len(means), bool), config.plane_tol
+    found = Supports(planes, walls, near, free_of(means, near, planes, walls, tol))
+    kept = clicked_supports(found, means, np.ones(len(means)), np.array([0.0, -0.15, 0.2]), frame, config)
+    assert [float(d) for _, d in kept.walls] == [0.8]
+    on_ball = slice(len(floor) + len(wall), len(means))
+    assert kept.free[on_ball].mean() > 0.95 and found.free[on_ball].mean() < 0.9
+    # a click on a trophy a hand's width off the wall: the wall reaches far past it, so it stays a wall
+    by_wall = clicked_supports(found, means, np.ones(len(means)), np.array([-0.7, 0.0, 0.6]), frame, config)
+    assert 0.8 in [float(d) for _, d in by_wall.walls]
+
+
 def test_a_click_takes_the_proposal_that_renders_under_it_not_a_hidden_or_faint_one():
     """A body (proposal 5) in front of the camera, a piece of the same size hidden behind it (2), a faint sliver
     in front of it that renders nothing (7), and 20 one-Gaussian proposals round it (more than an identity
