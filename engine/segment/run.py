@@ -357,9 +357,9 @@ def _clicked(run, means: np.ndarray, config: SegmentConfig, device: torch.device
     (engine.segment.proposals: a piece off every support plane, its faint Gaussians joined) under it, with the
     pieces touching it there (`pieces_under`), and the proposal that renders at the pixel (`rendered_under`) with
     them. Why both, not the rendered one alone where it is not among them: either can be a sliver of the object
-    that covers no other view (a tiny CI training took 105 Gaussians that rendered at the click and on none of
-    the test views), and the object is both. A pick that does not render at the click (`renders_at`: a click on
-    the floor or a wall, or a piece behind a floater) is refused with one line, so the user clicks again."""
+    that the other holds the rest of (a sliver alone renders at the click and on few other views). A pick that
+    does not render at the click (`renders_at`: a click on the floor or a wall, or a piece behind a floater) is
+    refused with one line, so the user clicks again."""
     scene: Scene = run.scene
     names = [c.name for c in scene.cameras]
     if len(config.point) != 2 or config.view not in names:
