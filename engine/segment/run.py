@@ -383,10 +383,11 @@ def _clicked(run, means: np.ndarray, config: SegmentConfig, device: torch.device
         raise InputError(f"{run.root} has no object off its support planes near --point: use --box")
     near = pieces_under(means, ids, target, 2 * stats["voxel"])
     seen = rendered_under(run.gaussians, run.sh_degree, ids, camera, (u, v), device)
-    chosen = np.isin(ids, np.union1d(near, [seen]) if seen else near)
+    picked = np.union1d(near, [seen]) if seen else near
+    chosen = np.isin(ids, picked)
     if not renders_at(run.gaussians, run.sh_degree, chosen, camera, (u, v), device):
         raise InputError(f"no object off the support planes renders at --point {u:g} {v:g} of {config.view} (the "
-                         f"pieces nearest the surface there, proposals {near.tolist()}, render elsewhere): click "
+                         f"pieces under it there, proposals {picked.tolist()}, render elsewhere): click "
                          "nearer the object's middle or in another view, or use --box")
     return chosen
 
