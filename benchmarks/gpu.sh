@@ -58,7 +58,7 @@ EXT=${TORCH_EXTENSIONS_DIR:-/root/.cache/torch_extensions/py312_cu130}
 GPUS=$(nvidia-smi -L 2>/dev/null | wc -l); [ "$GPUS" -gt 0 ] || { echo "gpu.sh: no GPU on this machine" >&2; exit 2; }
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-$(( $(nproc) / GPUS ))}  # processes a GPU each must not spin on all cores
 # the held-out table's cells: the four methods with telea and the default inpainter (docs/BENCHMARKS.md)
-HELDOUT_CELLS=${HELDOUT_CELLS:---seeds 0 --methods init reference ft3 direct --inpainters telea fsr}
+HELDOUT_CELLS=${HELDOUT_CELLS:---seeds 0 --methods init reference ft3 direct --inpainters telea coherence}
 
 setup() {
   python3 benchmarks/carry.py join $G/files

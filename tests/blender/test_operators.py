@@ -198,7 +198,7 @@ def test_the_inpaint_and_complete_menus_list_the_engines_plugins(package, monkey
     # the defaults the tuning scenes chose come first (Blender preselects the first item), and the Complete menu
     # says why (engine.base.defaults)
     first_method, first_inpainter = pipeline._plugin_items("methods")[0], pipeline._plugin_items("inpainters")[0]
-    assert (first_method[0], first_inpainter[0]) == ("reference", "telea")
+    assert (first_method[0], first_inpainter[0]) == ("reference", "coherence")
     assert "unfilled hole" in first_method[2]
 
 

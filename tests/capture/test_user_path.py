@@ -84,7 +84,7 @@ def test_the_readme_user_path_runs_as_written_from_photos(photos: Path, tmp_path
     objects = json.loads((run / "segments" / "objects.json").read_text())
     assert objects[0]["name"] == "object_1" and len(objects[0]["box"]) == 6
     complete = next((run / "complete").iterdir())
-    assert complete.name == "Ref-telea[warm]", complete  # the defaults' fill (engine.base.defaults)
+    assert complete.name == "Ref-coherence[warm]", complete  # the defaults' fill (engine.base.defaults)
     scores = json.loads((complete / "scores.json").read_text())
     assert scores["scores"]["psnr_outside"] > 15 and scores["scores"]["m_psnr"] is None, scores["scores"]
     assert "no gt/" in scores["unavailable"]["m_psnr"]
