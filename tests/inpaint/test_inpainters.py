@@ -57,6 +57,8 @@ def test_coherence_carries_a_dark_band_across_the_hole_where_telea_breaks_it():
     in_band = hole & (np.abs(across) < 5)
     coherence, telea = (create(name).inpaint(image, hole)[in_band].mean() for name in ("coherence", "telea"))
     assert coherence < 95 < telea
+    everywhere = np.ones_like(MASK)  # nothing known to carry: the image as it was, not a crash
+    assert (create("coherence").inpaint(image, everywhere) == image).all()
 
 
 def test_exemplar_fills_depth_on_one_channel_as_it_would_on_three_equal_ones():

@@ -69,9 +69,12 @@ def _across_edges(grey: np.ndarray, known: np.ndarray, reach: float) -> tuple[np
 
 
 def coherence_fill(image: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    """`image` (H, W, C) float32 with `mask` (H, W) filled by coherence transport (module docstring)."""
-    work = np.where(mask[..., None], 0.0, image).astype(np.float32)
+    """`image` (H, W, C) float32 with `mask` (H, W) filled by coherence transport (module docstring); a mask over
+    every pixel leaves nothing to carry, and the image is returned as it is."""
     known = ~mask
+    if not known.any():
+        return image.astype(np.float32)
+    work = np.where(mask[..., None], 0.0, image).astype(np.float32)
     distance = cv2.distanceTransform(mask.astype(np.uint8), cv2.DIST_L2, 5)
     layer = np.ceil(distance).astype(int)
     ux, uy, coherence = _across_edges(work @ LUMA if work.shape[-1] == 3 else work.mean(-1), known,
