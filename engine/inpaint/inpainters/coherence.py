@@ -4,16 +4,19 @@ hole's outline.
 
 Why: Telea's fill weights the border by the hole's shape, so a straight dark band that crosses the hole (a tree's
 shadow across a slab, a skirting board, a rug's stripe) enters from both sides and meets lit border in the
-middle: the band comes out broken by a pale patch (held-out statue_s100, `views_4f9a245_statue_s100.jpg`).
+middle: the band comes out broken by a pale patch (held-out statue_s100, docs/results/heldout/
+`views_e541ab4_statue_s100.jpg`).
 Here each hole pixel, taken in order of its distance to the known pixels (one layer of the distance map at a
 time, the layer at once), is the weighted mean of the known or already filled pixels within `EPS` px:
 
     w(x, y) = 1 / |y - x| * exp(-(mu / EPS)^2 / 2 * (c_perp . (y - x))^2)
 
 where c is the direction along the edges at x, the structure tensor's minor eigenvector (gradients at scale
-`SIGMA`, averaged over `RHO`, both over the pixels known so far), and mu = `KAPPA` x its coherence (0 where the
-neighbourhood has no one direction: there the weights are Telea-like 1/r and the fill is smooth). The published
-parameters (eps 5, kappa 25, sigma 1.4, rho 4).
+`SIGMA`, averaged over `RHO`, over the known pixels; in the hole, their tensors' mean over the hole's depth, fixed
+before the fill: `_across_edges` says why the paper's tensor of the growing fill is not used), and mu = `KAPPA` x
+its coherence (0 where the neighbourhood has no one direction: there the weights are Telea-like 1/r and the fill is
+smooth). The published parameters (eps 5, kappa 25, sigma 1.4, rho 4). Where it loses: on a wall's fine vertical
+grain it carried a dark rim at the hole's border down the wall (Ref -1.64 dB against Telea on wallmount_s8, e541ab4).
 """
 
 from __future__ import annotations
