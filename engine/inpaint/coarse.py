@@ -13,6 +13,7 @@ texture keeps its sharpness. A hole within the limit is filled as before, at ful
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import cv2
@@ -51,6 +52,16 @@ class Coarse:
         return out
 
 
+def grown_box(mask: np.ndarray, grow: Callable[[int], int]) -> tuple[slice, slice]:
+    """The rows and columns of `mask`'s bounding box, grown on each side by `grow(extent)` px (extent: the box's
+    height for the rows, its width for the columns), within the image: the neighbourhood an inpainter reads."""
+    box = []
+    for index, size in zip(np.nonzero(mask), mask.shape, strict=True):
+        step = grow(int(index.max() - index.min() + 1))
+        box.append(slice(max(index.min() - step, 0), min(index.max() + step + 1, size)))
+    return box[0], box[1]
+
+
 def coarse_view(mask: np.ndarray, max_hole_px: int) -> Coarse | None:
     """Where and how much to downscale for a hole of more than `max_hole_px` pixels (None: fill as it is). The
     crop is the hole's bounding box grown by its own size on each side (what the exemplar searches), within
@@ -59,11 +70,7 @@ def coarse_view(mask: np.ndarray, max_hole_px: int) -> Coarse | None:
     if max_hole_px <= 0 or area <= max_hole_px:
         return None
     scale = math.ceil(math.sqrt(area / max_hole_px))
-    ys, xs = np.nonzero(mask)
-    h, w = mask.shape
-    grow_y, grow_x = ys.max() - ys.min() + 1, xs.max() - xs.min() + 1
-    rows = slice(max(ys.min() - grow_y, 0), min(ys.max() + grow_y + 1, h))
-    cols = slice(max(xs.min() - grow_x, 0), min(xs.max() + grow_x + 1, w))
+    rows, cols = grown_box(mask, lambda extent: extent)
     pad = (-(rows.stop - rows.start) % scale, -(cols.stop - cols.start) % scale)
     return Coarse(rows, cols, scale, pad)
 

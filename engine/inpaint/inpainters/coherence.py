@@ -24,6 +24,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from engine.inpaint.coarse import grown_box
 from engine.inpaint.registry import Inpainter, register
 
 EPS = 5  # px: the neighbourhood a pixel is filled from
@@ -102,13 +103,6 @@ def coherence_fill(image: np.ndarray, mask: np.ndarray) -> np.ndarray:
     return work
 
 
-def _crop(mask: np.ndarray) -> tuple[slice, slice]:
-    rows, cols = np.nonzero(mask)
-    h, w = mask.shape
-    return (slice(max(rows.min() - MARGIN, 0), min(rows.max() + MARGIN + 1, h)),
-            slice(max(cols.min() - MARGIN, 0), min(cols.max() + MARGIN + 1, w)))
-
-
 @register("coherence")
 class CoherenceTransport(Inpainter):
     """Numpy on the hole's neighbourhood, one distance layer at a time; a hole above max_hole_px is filled
@@ -121,7 +115,7 @@ class CoherenceTransport(Inpainter):
         return "threads"
 
     def inpaint_rgb(self, image: np.ndarray, mask: np.ndarray, prompt: str | None) -> np.ndarray:
-        rows, cols = _crop(mask)
+        rows, cols = grown_box(mask, lambda extent: MARGIN)
         out = image.copy()
         filled = coherence_fill(image[rows, cols].astype(np.float32), mask[rows, cols])
         out[rows, cols] = np.clip(np.rint(filled), 0, 255).astype(np.uint8)

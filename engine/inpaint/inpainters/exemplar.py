@@ -19,7 +19,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from engine.inpaint.coarse import coarse_view
+from engine.inpaint.coarse import coarse_view, grown_box
 from engine.inpaint.registry import Inpainter, register
 
 PATCH = 9  # px, odd: the published default
@@ -28,12 +28,7 @@ MAX_HOLE_PX = 6000  # a larger hole picks its patches downscaled (exemplar_large
 
 
 def _window(mask: np.ndarray, half: int) -> tuple[slice, slice]:
-    rows, cols = np.nonzero(mask)
-    h, w = mask.shape
-    grow_r = max(WINDOW_MARGIN, rows.max() - rows.min() + 1) + half
-    grow_c = max(WINDOW_MARGIN, cols.max() - cols.min() + 1) + half
-    return (slice(max(rows.min() - grow_r, 0), min(rows.max() + grow_r + 1, h)),
-            slice(max(cols.min() - grow_c, 0), min(cols.max() + grow_c + 1, w)))
+    return grown_box(mask, lambda extent: max(WINDOW_MARGIN, extent) + half)
 
 
 def _data_term(grey: np.ndarray, known: np.ndarray) -> np.ndarray:
