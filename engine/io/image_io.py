@@ -45,13 +45,22 @@ def read_png(path: Path, kind: str = "image", size: tuple[int, int] | None = Non
 
 
 def write_png(path: Path, array: np.ndarray) -> None:
-    """Write (H, W, 3) RGB or (H, W) single-channel uint8 as PNG, creating the folder."""
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    """Write (H, W, 3) RGB or (H, W) single-channel uint8 as PNG, creating the folder, whatever `path`'s suffix.
+    Why not by suffix: a stage names each view's file after its photo, so a capture's masks, holes, renders and
+    inpainted views were named IMG_0005.jpg and OpenCV wrote them as JPEG. A hole mask read back (> 0) then
+    grew by the JPEG's ringing: 1,983 pixels for the 1,414 written, in the README path's IMG_0005."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
     array = np.ascontiguousarray(array)
     if array.ndim == 3:
         array = cv2.cvtColor(array, cv2.COLOR_RGB2BGR)
-    if not cv2.imwrite(str(path), array):
-        raise InputError(f"cannot write {path}: check that the folder exists and is writable")
+    ok, data = cv2.imencode(".png", array)
+    if not ok:
+        raise InputError(f"cannot encode {path} as PNG: it needs (H, W) or (H, W, 3) uint8 pixels")
+    try:
+        path.write_bytes(data.tobytes())
+    except OSError as exc:
+        raise InputError(f"cannot write {path} ({exc.strerror}): check that the folder is writable") from exc
 
 
 def _check_size(path: Path, declared: tuple[int, int], size: tuple[int, int] | None) -> None:

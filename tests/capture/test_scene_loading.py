@@ -119,6 +119,23 @@ def test_png_writes_after_loading_a_colmap_model(living_scene: Path, tmp_path: P
     assert proc.returncode == 0, proc.stderr[-500:]
 
 
+@pytest.mark.fast
+def test_a_view_named_after_a_jpeg_photo_is_written_as_png_and_reads_back_exactly(tmp_path: Path):
+    """A capture's views are named IMG_0001.jpg and every stage names its files after them: a hole mask written
+    as JPEG came back with its edge grown by ringing (40% more pixels in the README path's IMG_0005)."""
+    from engine.io.image_io import read_png, write_png
+
+    rng = np.random.default_rng(0)
+    mask = np.zeros((48, 64), np.uint8)
+    mask[10:30, 20:45] = 255
+    rgb = rng.integers(0, 256, (48, 64, 3), dtype=np.uint8)
+    write_png(tmp_path / "holes" / "IMG_0001.jpg", mask)
+    write_png(tmp_path / "images" / "IMG_0001.jpg", rgb)
+    assert (tmp_path / "holes" / "IMG_0001.jpg").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert np.array_equal(read_png(tmp_path / "holes" / "IMG_0001.jpg", "mask", (64, 48)), mask)
+    assert np.array_equal(read_png(tmp_path / "images" / "IMG_0001.jpg", size=(64, 48)), rgb)
+
+
 def test_objects_json_round_trips(living_scene: Path):
     entries = json.loads((living_scene / "masks/objects.json").read_text())
     assert sum(e["target"] for e in entries) == 1 and {e["id"] for e in entries} == set(range(1, 6))
