@@ -50,6 +50,8 @@ def complete(config) -> str:
     report = run_complete(config)
     if report["method"] is None:
         return f"{report['verdict']}: the scene is {report['scene']}; {report['hint']}"
+    if report.get("nothing_to_train"):
+        return f"{report['method']}: nothing trained, {report['nothing_to_train']}; pictures in {report['out']}"
     scores, removed = report["scores"], report["removed_scores"]
     if scores["m_psnr"] is None and scores.get("psnr_outside") is not None:  # a capture: no gt/
         said = (f"PSNR outside the object against the photos {scores['psnr_outside']:.2f} dB (removed, unfilled: "

@@ -74,6 +74,7 @@ class CompletionJob:
     holes: HolesLayout
     out: CompleteLayout
     device: torch.device
+    notes: dict = field(default_factory=dict)  # what a hook tells the report (nothing_to_train: why)
 
     def short_steps(self) -> int:
         """--steps, else a tenth of the base run's (at least 100), counted in views as a completion's steps are
@@ -237,7 +238,7 @@ def _score(job: CompletionJob, metrics: dict, seconds: float, colmap: dict | Non
               "gaussians": metrics["gaussians"], "scores": scores.values, "unavailable": scores.unavailable,
               "removed_scores": baseline.values, "oracle_scores": score_oracles(job.original.scene),
               "recolmap": colmap, "kept_to_hole": metrics.get("kept_to_hole"),
-              "kept_views": kept_views,
+              "kept_views": kept_views, **job.notes,
               "turntable": video and str(video.relative_to(out.root)), "gpu": gpu_name(job.device),
               "versions": versions()}
     partial = out.root / ".scores.json.tmp"

@@ -17,12 +17,13 @@ import dataclasses
 import numpy as np
 
 from engine.base.errors import InputError
+from engine.base.progress import emit
 from engine.complete.finetune import hole_gaussians, nearest_identity, reference_views
 from engine.complete.hole_region import (
     changeable,
-    check_movable,
     fit_to_holes,
     hole_bound,
+    nothing_to_train,
     occluding_depths,
     split_at_hole,
 )
@@ -49,15 +50,26 @@ def warm_setup(job, settings: TrainConfig) -> tuple[TrainConfig, dict]:
     movable, fixed = split_at_hole(removed, changeable(removed, scene, holes, surfaces))
     seeds = _seeds(job, holes, surfaces, removed, settings.sh_degree)
     start = concat(movable, seeds)
-    check_movable(start, job.holes.root)
+    views = [i for i in scene.train if holes[i].any()]
+    idle = nothing_to_train(start, views, job.holes.root)
+    if idle:
+        return _idle_setup(job, settings, removed, idle)
     budget = settings.max_gaussians
     cap = max(budget - len(fixed["means"]), len(start["means"])) if budget > 0 else 0
     config = dataclasses.replace(settings.with_steps(job.short_steps()), sh_degree_interval=1, max_gaussians=cap)
-    views = [i for i in scene.train if holes[i].any()]
-    if not views:
-        raise InputError(f"no training view has a hole in {job.holes.root}: nothing to complete (the removed scene "
-                         "is the result)")
     return config, {"start": start, "fixed": fixed, "views": views,
+                    "classifier": copy.deepcopy(job.original.classifier)}
+
+
+def _idle_setup(job, settings: TrainConfig, removed: Gaussians, why: str) -> tuple[TrainConfig, dict]:
+    """A run of no steps whose scene is the removed one, fixed whole (nothing to train, `why`): the completion's
+    folder is then what every completion writes (run, renders, scores, turntable) and the report says why. Every
+    SH band from step 0 (sh_degree_interval 0): the removed scene renders as removal left it."""
+    emit("note", stage="complete", note=why)
+    job.notes["nothing_to_train"] = why
+    config = dataclasses.replace(settings, steps=0, sh_degree_interval=0, max_gaussians=0)
+    nothing = split_at_hole(removed, np.zeros(len(removed["means"]), bool))[0]
+    return config, {"start": nothing, "fixed": removed, "views": list(job.original.scene.train),
                     "classifier": copy.deepcopy(job.original.classifier)}
 
 

@@ -48,7 +48,7 @@ class TrainConfig:
     max_gaussians: int = 300_000  # MCMC budget (gsplat's MCMCStrategy); 0: no budget (gsplat's DefaultStrategy)
     resolution: int = 1  # load the scene at 1/resolution of its size (1, 2, 4, 8), as 3DGS's -r
     sh_degree: int = 3  # spherical-harmonics degree of the colours
-    sh_degree_interval: int = 1000  # one more SH band every this many steps
+    sh_degree_interval: int = 1000  # one more SH band every this many steps (0: every band from the start)
     init_opacity: float = 0.1  # opacity of the Gaussians made from the sparse points
     lr_means: float = 1.6e-4  # learning rate of the positions, times the scene's extent (gsplat's simple_trainer)
     lr_means_final_ratio: float = 0.01  # the positions' rate decays to this share of itself by the last step
@@ -97,7 +97,10 @@ class TrainConfig:
         return cls(**values)
 
     def sh_degree_at(self, step: int) -> int:
-        """SH bands in use after `step` steps: one more every sh_degree_interval, up to sh_degree."""
+        """SH bands in use after `step` steps: one more every sh_degree_interval, up to sh_degree (0: every band
+        from the start, for a run that begins from a trained scene and may take no step)."""
+        if self.sh_degree_interval <= 0:
+            return self.sh_degree
         return min(step // self.sh_degree_interval, self.sh_degree)
 
     def resolved(self) -> TrainConfig:

@@ -399,6 +399,34 @@ def test_a_scratch_init_keeps_the_removed_scene_outside_the_hole_and_its_own_sce
     assert worst[True] > 30 > worst[False], worst
 
 
+def test_a_warm_completion_with_no_hole_in_any_view_finishes_with_the_removed_scene(stages, tmp_path):
+    """Hole masks empty in every view (every view saw behind the object): Ref[warm], the default, trains no step
+    and its scene is the removed one, bit for bit, rendered as removal rendered it, with the report and the CLI's
+    line saying why, instead of the error the README path's test met on CI."""
+    import shutil
+
+    import torch
+
+    from engine.complete.run import CompleteConfig, run_complete
+    from engine.io.ply_io import load_ply
+    from engine.train.trained_run import load_run
+
+    empty = tmp_path / "holes"
+    shutil.copytree(stages["holes"], empty)
+    for mask in empty.glob("*.png"):
+        write_png(mask, np.zeros_like(read_png(mask, kind="mask")))
+    out = tmp_path / "ref"
+    report = run_complete(CompleteConfig(run=str(stages["run"]), method="reference", inpainter="fsr",
+                                         inpainted=str(fsr_for_ft(stages)), removed=str(stages["removed"]),
+                                         holes=str(empty), out=str(out), device="cpu", turntable=False))
+    assert "no training view has a hole" in report["nothing_to_train"], report.get("nothing_to_train")
+    trained, removed = load_run(out / "run"), load_ply(stages["removed"] / "point_cloud.ply")
+    assert trained.config.steps == 0 and trained.sh_degree == load_run(stages["run"]).sh_degree
+    assert all(torch.equal(trained.gaussians[k], removed[k].float()) for k in ("means", "scales", "sh0", "shN"))
+    for render in (out / "renders").iterdir():
+        assert np.array_equal(read_png(render), read_png(stages["removed"] / "images" / render.name)), render.name
+
+
 def read_masks_grown(holes: Path, cameras, inpainted: Path) -> dict[str, np.ndarray]:
     """Each view's hole as the inpainting grew it (its config's dilation)."""
     from engine.formats.layout import InpaintedLayout
