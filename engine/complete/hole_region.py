@@ -181,9 +181,14 @@ def nothing_to_train(start: Gaussians, views: list[int], holes_root) -> str | No
     view; the removed scene is then the finished scene, and the user's `complete` ends with it instead of failing
     at the pipeline's last command (the README path's test did so on CI's 2 cores)."""
     if not views:
-        return (f"no training view has a hole in {holes_root}: every view saw behind the object, so the removed "
-                "scene is the result")
+        return no_hole(holes_root)
     if len(start["means"]) == 0:
         return (f"nothing renders into the holes in {holes_root} and no inpainted surface lies there: the removed "
                 "scene is the result")
     return None
+
+
+def no_hole(holes_root) -> str:
+    """The reason a completion has nothing to fill where no training view has a hole."""
+    return (f"no training view has a hole in {holes_root}: every view saw behind the object, so the removed scene "
+            "is the result")

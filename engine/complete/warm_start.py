@@ -23,6 +23,7 @@ from engine.complete.hole_region import (
     changeable,
     fit_to_holes,
     hole_bound,
+    no_hole,
     nothing_to_train,
     occluding_depths,
     split_at_hole,
@@ -59,6 +60,18 @@ def warm_setup(job, settings: TrainConfig) -> tuple[TrainConfig, dict]:
     config = dataclasses.replace(settings.with_steps(job.short_steps()), sh_degree_interval=1, max_gaussians=cap)
     return config, {"start": start, "fixed": fixed, "views": views,
                     "classifier": copy.deepcopy(job.original.classifier)}
+
+
+def idle_without_holes(job, settings: TrainConfig) -> tuple[TrainConfig, dict] | None:
+    """FT's check before it seeds anything: where no training view has a hole, the idle run (as a warm start's);
+    None where one has, or where the holes are missing (FT's own error names them)."""
+    scene = job.original.scene
+    if not job.holes.root.is_dir():
+        return None
+    holes = read_masks(job.holes.root, scene.cameras, inpainted_dilation(job.inpainted))
+    if any(holes[i].any() for i in scene.train):
+        return None
+    return _idle_setup(job, settings, load_ply(job.removed.point_cloud), no_hole(job.holes.root))
 
 
 def _idle_setup(job, settings: TrainConfig, removed: Gaussians, why: str) -> tuple[TrainConfig, dict]:

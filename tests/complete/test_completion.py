@@ -399,10 +399,11 @@ def test_a_scratch_init_keeps_the_removed_scene_outside_the_hole_and_its_own_sce
     assert worst[True] > 30 > worst[False], worst
 
 
-def test_a_warm_completion_with_no_hole_in_any_view_finishes_with_the_removed_scene(stages, tmp_path):
-    """Hole masks empty in every view (every view saw behind the object): Ref[warm], the default, trains no step
-    and its scene is the removed one, bit for bit, rendered as removal rendered it, with the report and the CLI's
-    line saying why, instead of the error the README path's test met on CI."""
+@pytest.mark.parametrize("method", ["reference", "ft"])
+def test_a_completion_with_no_hole_in_any_view_finishes_with_the_removed_scene(stages, tmp_path, method):
+    """Hole masks empty in every view (every view saw behind the object): Ref[warm], the default, and FT train no
+    step and their scene is the removed one, bit for bit, rendered as removal rendered it, with the report saying
+    why, instead of the error the README path's test met on CI."""
     import shutil
 
     import torch
@@ -415,10 +416,11 @@ def test_a_warm_completion_with_no_hole_in_any_view_finishes_with_the_removed_sc
     shutil.copytree(stages["holes"], empty)
     for mask in empty.glob("*.png"):
         write_png(mask, np.zeros_like(read_png(mask, kind="mask")))
-    out = tmp_path / "ref"
-    report = run_complete(CompleteConfig(run=str(stages["run"]), method="reference", inpainter="fsr",
+    out = tmp_path / method
+    report = run_complete(CompleteConfig(run=str(stages["run"]), method=method, inpainter="fsr",
                                          inpainted=str(fsr_for_ft(stages)), removed=str(stages["removed"]),
-                                         holes=str(empty), out=str(out), device="cpu", turntable=False))
+                                         holes=str(empty), out=str(out), device="cpu", turntable=False,
+                                         options={"perceptual": "l1"} if method == "ft" else {}))
     assert "no training view has a hole" in report["nothing_to_train"], report.get("nothing_to_train")
     trained, removed = load_run(out / "run"), load_ply(stages["removed"] / "point_cloud.ply")
     assert trained.config.steps == 0 and trained.sh_degree == load_run(stages["run"]).sh_degree
