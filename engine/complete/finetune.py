@@ -162,18 +162,19 @@ def _perceptual_network(perceptual: str, lpips_paths: tuple[str, str], device: t
 def finetune_setup(settings: TrainConfig, original: TrainedRun, removed: RemovedLayout, inpainted: InpaintedLayout,
                    holes_dir: HolesLayout,
                    refs_count: int, perceptual: str, steps: int, seed: int, device: torch.device,
-                   lpips_paths: tuple[str, str]) -> tuple[TrainConfig, dict]:
-    """The training settings and Trainer plug-ins of a finetuning run (see the module docstring). The
-    identity classifier starts as the original run trained it, so the frozen Gaussians' identities keep
-    their meaning from the first step."""
+                   lpips_paths: tuple[str, str]) -> tuple[TrainConfig, dict] | None:
+    """The training settings and Trainer plug-ins of a finetuning run (see the module docstring), or None where no
+    training view has a hole (nothing to finetune: the caller's run keeps the removed scene, and no perceptual
+    network is loaded for it). The identity classifier starts as the original run trained it, so the frozen
+    Gaussians' identities keep their meaning from the first step."""
     scene = original.scene
-    lpips = _perceptual_network(perceptual, lpips_paths, device)
     if not holes_dir.root.is_dir():
         raise InputError(f"{holes_dir.root} missing: run `python -m engine holes` on the run first")
     holes = read_masks(holes_dir.root, scene.cameras, inpainted_dilation(inpainted))
     refs = reference_views(holes, scene.train, refs_count)
     if not refs:
-        raise InputError(f"no training view has a hole in {holes_dir.root}: nothing to finetune")
+        return None
+    lpips = _perceptual_network(perceptual, lpips_paths, device)
     frozen = load_ply(removed.point_cloud)
     depths = {i: read_depth(inpainted.depth / exr_name(scene.cameras[i].name)) for i in refs}
     budget = settings.max_gaussians  # the base run's: FT ends within it

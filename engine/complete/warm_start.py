@@ -62,15 +62,9 @@ def warm_setup(job, settings: TrainConfig) -> tuple[TrainConfig, dict]:
                     "classifier": copy.deepcopy(job.original.classifier)}
 
 
-def idle_without_holes(job, settings: TrainConfig) -> tuple[TrainConfig, dict] | None:
-    """FT's check before it seeds anything: where no training view has a hole, the idle run (as a warm start's);
-    None where one has, or where the holes are missing (FT's own error names them)."""
-    scene = job.original.scene
-    if not job.holes.root.is_dir():
-        return None
-    holes = read_masks(job.holes.root, scene.cameras, inpainted_dilation(job.inpainted))
-    if any(holes[i].any() for i in scene.train):
-        return None
+def no_hole_setup(job, settings: TrainConfig) -> tuple[TrainConfig, dict]:
+    """The idle run where no training view has a hole, for FT (whose finetune_setup found none): as a warm
+    start's, the removed scene whole and no step."""
     return _idle_setup(job, settings, load_ply(job.removed.point_cloud), no_hole(job.holes.root))
 
 

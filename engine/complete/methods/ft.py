@@ -37,11 +37,9 @@ class Finetune(CompletionMethod):
 
     def setup(self, job, settings):
         from engine.complete.finetune import finetune_setup
-        from engine.complete.warm_start import idle_without_holes
+        from engine.complete.warm_start import no_hole_setup
 
-        idle = idle_without_holes(job, settings)  # no hole in any training view: the removed scene is the result
-        if idle is not None:
-            return idle
-        return finetune_setup(settings, job.original, job.removed, job.inpainted, job.holes, job.options["refs"],
-                              job.options["perceptual"], job.short_steps(), job.config.seed, job.device,
-                              (job.config.lpips_backbone, job.config.lpips_heads))
+        setup = finetune_setup(settings, job.original, job.removed, job.inpainted, job.holes, job.options["refs"],
+                               job.options["perceptual"], job.short_steps(), job.config.seed, job.device,
+                               (job.config.lpips_backbone, job.config.lpips_heads))
+        return setup if setup is not None else no_hole_setup(job, settings)  # no hole: the removed scene stays
