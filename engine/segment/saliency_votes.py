@@ -32,6 +32,9 @@ PEDESTAL_FOOTPRINT = 3.0  # a pedestal's footprint is at least this many times i
 PEDESTAL_COLOUR = 0.3  # ... and its mean colour at least this far from the subject's (RGB in [0, 1])
 GROW = 6  # passes growing the subject over the salient Gaussians within STEP voxels of it
 STEP = 1.0  # voxels a pass reaches: a salient picture hung 1.7 voxels beside a plaque stays out
+BASE_DEPTH = 2.0  # voxels under a pedestal's cut that the growth may reach over Gaussians of the subject's colour:
+# the plate a figure stands on lies in the pedestal's top slice (statue capture at 728921d: its bronze base stayed
+# on the boulder as a dark patch); a plaque lower down the pedestal's side stays
 
 
 @dataclass
@@ -82,7 +85,9 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
     stayed) less a pedestal it stands on (`pedestal_cut`), then grown (`GROW` passes of `STEP` voxels)
     over the salient Gaussians touching it, faint ones and those within a plane's band too: a plaque mounted flat
     on a wall lies in the wall's band. A picture on the same wall votes as salient as the plaque; the wall between
-    them does not, and a step no longer than a voxel does not cross it."""
+    them does not, and a step no longer than a voxel does not cross it. Under a pedestal's cut the growth reaches
+    `BASE_DEPTH` voxels, over Gaussians nearer the subject's colour than the pedestal's only: the cut is a whole
+    voxel slice, and a base plate thinner than one shares the pedestal's top slice."""
     chosen = np.zeros(len(means), bool)
     salient = np.flatnonzero(free & solid & (votes >= min_vote))
     if len(salient) == 0:
@@ -91,12 +96,16 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
     part = merge_stacked(means[salient], voxel_of, label, up, stack_gap * voxel)[voxel_of]
     members = salient[part == np.bincount(part).argmax()]
     cut = pedestal_cut(means[members], colours[members], up, voxel)
+    base = np.zeros(len(means), bool)
     if cut is not None:
-        members = members[means[members] @ up >= cut]
+        upper = means[members] @ up >= cut
+        base = _subject_coloured(colours, colours[members[upper]].mean(0), colours[members[~upper]].mean(0))
+        base &= means @ up >= cut - BASE_DEPTH * voxel
+        members = members[upper]
     chosen[members] = True
     rest = near & (votes >= min_vote) & ~chosen
     if cut is not None:
-        rest &= means @ up >= cut
+        rest &= (means @ up >= cut) | base
     for _ in range(GROW):
         todo = np.flatnonzero(rest & ~chosen)
         if not len(todo):
@@ -107,6 +116,12 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
         chosen[todo[distance <= STEP * voxel]] = True
     return chosen, {"subject": "votes", "vote": round(float(votes[chosen].mean()), 3),
                     "salient_pieces": int(len(np.unique(part))), "pedestal": cut is not None}
+
+
+def _subject_coloured(colours: np.ndarray, subject_mean: np.ndarray, pedestal_mean: np.ndarray) -> np.ndarray:
+    """(N,) bool: the colours nearer the subject's mean than its pedestal's (pedestal_cut sets them apart by at least
+    PEDESTAL_COLOUR)."""
+    return np.linalg.norm(colours - subject_mean, axis=1) < np.linalg.norm(colours - pedestal_mean, axis=1)
 
 
 def pedestal_cut(points: np.ndarray, colours: np.ndarray, up: np.ndarray, voxel: float) -> float | None:

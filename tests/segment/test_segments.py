@@ -295,6 +295,30 @@ def test_a_figure_split_at_the_waist_is_one_subject_on_its_boulder():
     assert why["pedestal"] and (chosen == figure).all(), (why, chosen[:40000].mean(), chosen[40000:].mean())
 
 
+def test_the_plate_a_figure_stands_on_goes_with_it_and_the_pedestal_stays():
+    """The statue capture at 728921d: the figure's bronze base plate lay in the boulder's top voxel slice, below the
+    pedestal's cut, and stayed on the boulder as a dark patch. The plate, of the figure's colour and touching it,
+    goes with the figure; the boulder's top in the same slice, and a bronze plaque lower on its side, stay."""
+    rng = np.random.default_rng(0)
+    voxel, up = 0.1, np.array([0.0, 0.0, 1.0])
+
+    def box(low, high, count):
+        return rng.uniform(low, high, (count, 3))
+
+    boulder = box([-1.5, -1.5, 0.0], [1.5, 1.5, 0.95], 40000)
+    plate = box([-0.4, -0.4, 0.95], [0.4, 0.4, 0.99], 1500)  # in the boulder's top slice (0.9 to 1.0)
+    figure = box([-0.25, -0.25, 1.0], [0.25, 0.25, 3.0], 6000)
+    plaque = np.c_[np.full(500, 1.5), rng.uniform([-0.3, 0.4], [0.3, 0.6], (500, 2))]  # on the side, mid-height
+    means = np.concatenate([boulder, plate, figure, plaque])
+    part = np.repeat(np.arange(4), [40000, 1500, 6000, 500])
+    colours = np.where((part == 0)[:, None], [0.8, 0.5, 0.5], [0.1, 0.3, 0.2])
+    every = np.ones(len(means), bool)
+    chosen, why = subject(np.ones(len(means)), means, colours, every, every, every, up, voxel, 0.5)
+    taken = [chosen[part == k].mean() for k in range(4)]  # boulder, plate, figure, plaque
+    assert why["pedestal"] and taken[1] == 1.0 and taken[2] == 1.0 and taken[0] == 0.0 and taken[3] == 0.0, (
+        why, taken)
+
+
 def test_a_noisy_table_top_is_peeled_off_the_objects_on_it():
     """A tiny CPU run left its table top a slab of Gaussians up to 3 plane bands thick, which joined the plush
     and the table into one piece wider than the orbit (scenery): peeling wider bands splits the objects off,
