@@ -19,8 +19,9 @@ shadow's missed rim, about half of the error outside the hole). Found as a shadi
    left, nor other objects and their shadows (tiny CPU livingroom s7: -0.23 dB if so).
 3. Cells darker than their reference by more than `min_contrast` (log-luminance) are shaded; the support's
    Gaussians in them are multiplied by the ratio, per channel, blended in over one `min_contrast` so the
-   edge leaves no seam. Where the texture survived, it comes back as it was. Inside the hole the renders
-   show whatever was left there, which is relit too; the hole masks hand it to the inpainters all the same.
+   edge leaves no seam, none past the lit level of the support around (`_ceilings`). Where the texture
+   survived, it comes back as it was. Inside the hole the renders show whatever was left there, which is relit
+   too; the hole masks hand it to the inpainters all the same.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ from dataclasses import dataclass, field
 import cv2
 import numpy as np
 
-from engine.edit.effects import LINEAR_EPS, LUMA, EffectsConfig, Samples, darker_share, support_only
+from engine.edit.effects import LINEAR_EPS, LUMA, EffectsConfig, Samples, colors_of, darker_share, support_only
 from engine.edit.plane_grid import Site, pooled_sums
 from engine.io.gaussians import Gaussians
 from engine.io.image_io import srgb_to_linear
@@ -40,6 +41,7 @@ MIN_SAMPLES = 8  # per window, for a shading estimate
 MOST = 3.0  # the largest gain, in sRGB values (MOST ** 2.4 of light), whatever rounds of relighting it takes
 SECTORS = 16  # directions from the object in which the ring beyond the zone says whether the darkness runs on
 MIN_CELLS = 4  # a sector's ring cells with a shading estimate, at least, for it to say
+BRIGHT = 90.0  # percentile of the lit support's Gaussians (by luminance) that a relit one may reach (_ceilings)
 
 
 @dataclass
@@ -125,11 +127,32 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     gain = np.exp(weight[..., None] * np.nan_to_num(reference - local))
     gain = np.clip(cv2.blur(gain.astype(np.float32), (3, 3)), 1.0, most ** 2.4)
     weight = cv2.blur(weight.astype(np.float32), (3, 3))
-    shaded = support_only(site.near_plane(means, band_below, site.reach_up(remaining)), others)
+    band_of_plane = support_only(site.near_plane(means, band_below, site.reach_up(remaining)), others)
+    shaded = band_of_plane.copy()
     shaded[shaded] = grid.cells(weight, frame.flat(means[shaded])) > 0
     flat = frame.flat(means[shaded])
-    return ContactShade(shaded=shaded, gains=grid.cells(gain, flat), weight=grid.cells(weight, flat),
+    linear = srgb_to_linear(colors_of(remaining))
+    lit_support = band_of_plane.copy()
+    lit_support[lit_support] = grid.cells(ring.astype(np.float32), frame.flat(means[lit_support])) > 0.5
+    gains = np.minimum(grid.cells(gain, flat), _ceilings(grid.cells(reference, flat), linear[shaded],
+                                                         linear[lit_support]))
+    return ContactShade(shaded=shaded, gains=np.maximum(gains, 1.0), weight=grid.cells(weight, flat),
                         contrast=float(np.nanmax(np.where(zone, darker, np.nan))))
+
+
+def _ceilings(reference: np.ndarray, colours: np.ndarray, lit: np.ndarray) -> np.ndarray:
+    """(S, 3) the largest gain each shaded Gaussian (linear `colours`) may take: to its cell's lit level (`reference`,
+    the mean log of linear values; none where NaN) times the lit support's spread, the BRIGHT percentile of its
+    Gaussians' (`lit`, linear) luminance over their geometric mean. Why: a cell's gain lifts its mean, and a
+    Gaussian already lit in a dark cell (one layer of a surface other layers darken) went past the lit floor:
+    a pale ring round the contact (tuning livingroom_s90, H200 and tiny CPU). The spread keeps a texture's light
+    texels."""
+    luma = lit @ LUMA
+    spread = 1.0
+    if len(luma) >= MIN_SAMPLES:
+        spread = float(np.percentile(luma, BRIGHT) / np.exp(np.log(luma + LINEAR_EPS).mean()))
+    level = np.exp(np.where(np.isfinite(reference), reference, np.inf))
+    return spread * level / (colours + LINEAR_EPS)
 
 
 def _explained(site: Site, points: np.ndarray, window: int) -> np.ndarray:

@@ -298,6 +298,31 @@ def test_the_darkening_under_an_overhang_is_relit_to_the_floor_around_it_texture
     assert found.weight[inner[found.shaded]].mean() > 0.9  # the effect masks take it
 
 
+def test_a_lit_layer_under_an_overhang_is_not_relit_past_the_lit_floor():
+    """Where a cell is dark, one of its layers may be lit already (a surface other layers darken): the cell's gain
+    lifted such Gaussians past the lit floor, a pale ring round the contact (tuning livingroom_s90, on an H200 and
+    on a tiny CPU run). Each Gaussian's gain stops at its cell's lit level times the lit floor's spread; the dark
+    layer is relit as before."""
+    from engine.edit.contact_shade import find_contact_shade
+    from engine.edit.effects import brighten
+
+    floor, lit, seen, ball = overhang_scene(darken=0.2)
+    inner = np.linalg.norm(floor[:, :2], axis=1) < 0.35
+    points = np.concatenate([floor, floor[inner] + [0.0, 0.0, 0.002]])  # a lit layer over the dark one
+    colours = np.concatenate([seen, lit[inner]])
+    up = np.array([0.0, 0.0, 1.0])
+    core = object_core(gaussians(ball, np.full((len(ball), 3), 0.9)), up)
+    remaining = gaussians(points, colours)
+    found = find_contact_shade(remaining, core, object_support(floor, core, up), Samples(floor, seen), EffectsConfig())
+    assert found is not None
+    after = colors_of(brighten(remaining, found.shaded, found.gains))
+    layer = np.arange(len(points)) >= len(floor)
+    assert after[layer].max() <= lit.max() + 0.02, after[layer].max()  # without the ceiling: 1.64
+    dark = np.arange(len(points)) < len(floor)
+    assert np.abs(after[dark & np.r_[inner, np.zeros(layer.sum(), bool)]] - lit[inner]).mean() < \
+        0.25 * np.abs(seen[inner] - lit[inner]).mean()
+
+
 def test_a_band_running_on_past_the_darkening_is_left_dark_the_darkening_beside_it_relit():
     """A tree's band (|y| < 0.2) crosses the floor through the ball: dark on past the darkening's reach on both
     sides, so the ball did not cast it and gt/ keeps it (held-out statue_s100: the band beside the statue was
