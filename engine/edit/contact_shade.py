@@ -131,11 +131,11 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     shaded = band_of_plane.copy()
     shaded[shaded] = grid.cells(weight, frame.flat(means[shaded])) > 0
     flat = frame.flat(means[shaded])
-    linear = srgb_to_linear(colors_of(remaining))
     lit_support = band_of_plane.copy()
-    lit_support[lit_support] = grid.cells(ring.astype(np.float32), frame.flat(means[lit_support])) > 0.5
-    gains = np.minimum(grid.cells(gain, flat), _ceilings(grid.cells(reference, flat), linear[shaded],
-                                                         linear[lit_support]))
+    lit_support[lit_support] = grid.cells(ring, frame.flat(means[lit_support]))
+    colours = colors_of(remaining)
+    gains = np.minimum(grid.cells(gain, flat), _ceilings(grid.cells(reference, flat), srgb_to_linear(colours[shaded]),
+                                                         srgb_to_linear(colours[lit_support])))
     return ContactShade(shaded=shaded, gains=np.maximum(gains, 1.0), weight=grid.cells(weight, flat),
                         contrast=float(np.nanmax(np.where(zone, darker, np.nan))))
 

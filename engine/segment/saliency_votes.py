@@ -96,16 +96,15 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
     part = merge_stacked(means[salient], voxel_of, label, up, stack_gap * voxel)[voxel_of]
     members = salient[part == np.bincount(part).argmax()]
     cut = pedestal_cut(means[members], colours[members], up, voxel)
-    base = np.zeros(len(means), bool)
+    rest = near & (votes >= min_vote)
     if cut is not None:
-        upper = means[members] @ up >= cut
+        height = means @ up
+        upper = height[members] >= cut
         base = _subject_coloured(colours, colours[members[upper]].mean(0), colours[members[~upper]].mean(0))
-        base &= means @ up >= cut - BASE_DEPTH * voxel
+        rest &= (height >= cut) | (base & (height >= cut - BASE_DEPTH * voxel))
         members = members[upper]
     chosen[members] = True
-    rest = near & (votes >= min_vote) & ~chosen
-    if cut is not None:
-        rest &= (means @ up >= cut) | base
+    rest &= ~chosen
     for _ in range(GROW):
         todo = np.flatnonzero(rest & ~chosen)
         if not len(todo):
