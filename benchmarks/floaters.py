@@ -1,0 +1,129 @@
+"""What covers a trained capture's worst test views, and which rule for removing Gaussians would clear it.
+
+    python benchmarks/floaters.py RUN OUT.json [--device cuda]
+
+Why: on the skull capture four test views of nine (01, 09, 17, 25) render at 10-13 dB as one flat colour, in our
+training and in a plain 3DGS one alike, while their neighbours train well; camera clearance (engine.train.
+camera_clearance) at up to 3 sigma does not clear them, and the run folder does not come back from the GPU machine.
+This reads the run where it was trained and writes, small:
+
+- per test view (and every fourth training view, to see what a rule costs) the PSNR of the trained model;
+- for each test view far below the rest, the Gaussians that cover most of it in front of the scene's centre: where
+  they stand, how large, how opaque, how far from the nearest training camera, in how many training frustums;
+- per candidate rule, how many Gaussians it removes and the same PSNRs without them (no training after).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import torch
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from engine.base.device import pick_device  # noqa: E402
+from engine.formats.cameras import Camera, project  # noqa: E402
+from engine.metrics.evaluate import evaluate_views  # noqa: E402
+from engine.train.camera_clearance import centres_of, holding_cameras  # noqa: E402
+from engine.train.trained_run import load_run  # noqa: E402
+
+BAD_GAP = 4.0  # dB below the test views' median: a view to explain
+TOP = 12  # culprits listed per bad view
+
+
+def footprint(camera: Camera, means: np.ndarray, radius: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each Gaussian's depth in `camera` and the share of the picture its 2-sigma disc covers (0 behind it)."""
+    u, v, z = project(camera, means)
+    r = 2 * camera.fx * radius / np.maximum(z, 1e-6)
+    left, right = np.clip(u - r, 0, camera.width), np.clip(u + r, 0, camera.width)
+    top, bottom = np.clip(v - r, 0, camera.height), np.clip(v + r, 0, camera.height)
+    share = (right - left) * (bottom - top) / (camera.width * camera.height)
+    return z, np.where(z > 0.01, share, 0.0)
+
+
+def in_frustums(cameras: list[Camera], means: np.ndarray) -> np.ndarray:
+    """How many of `cameras` hold each centre inside their picture, in front."""
+    count = np.zeros(len(means), np.int32)
+    for camera in cameras:
+        u, v, z = project(camera, means)
+        count += (z > 0.01) & (u >= 0) & (u < camera.width) & (v >= 0) & (v < camera.height)
+    return count
+
+
+def psnrs(run, views: list[int], gaussians, device) -> dict[str, float]:
+    return evaluate_views(run.scene, views, gaussians, run.classifier, run.sh_degree, device)["psnr_per_view"]
+
+
+def without(gaussians: dict, drop: np.ndarray) -> dict:
+    keep = torch.as_tensor(~drop)
+    return {k: v[keep] for k, v in gaussians.items()}
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("run")
+    parser.add_argument("out")
+    parser.add_argument("--device", default="auto")
+    args = parser.parse_args()
+    run, device = load_run(args.run), pick_device(args.device)
+    scene, g = run.scene, run.gaussians
+    train = [scene.cameras[i] for i in scene.train]
+    means = g["means"].numpy().astype(np.float64)
+    scales = torch.exp(g["scales"]).numpy()
+    radius = scales.max(1)
+    opacity = torch.sigmoid(g["opacities"].flatten()).numpy()
+    colour = (g["sh0"].reshape(len(means), 3).numpy() * 0.28209479177387814 + 0.5).clip(0, 1)
+    centres = np.stack([c.center for c in train])
+    nearest = np.full(len(means), np.inf)
+    for c in centres:
+        nearest = np.minimum(nearest, np.linalg.norm(means - c, axis=1))
+    frustums = in_frustums(train, means)
+    sampled = scene.train[::4]
+    base_test, base_train = psnrs(run, scene.test, g, device), psnrs(run, sampled, g, device)
+    median = float(np.median(list(base_test.values())))
+    culprits = {}
+    for i in scene.test:
+        camera = scene.cameras[i]
+        if base_test[camera.name] > median - BAD_GAP:
+            continue
+        z, share = footprint(camera, means, radius)
+        weight = share * opacity
+        order = np.argsort(-weight)[:TOP]
+        culprits[camera.name] = [{
+            "index": int(k), "mean": np.round(means[k], 3).tolist(), "depth": round(float(z[k]), 3),
+            "max_scale": round(float(radius[k]), 3), "scales": np.round(scales[k], 3).tolist(),
+            "opacity": round(float(opacity[k]), 3), "colour": np.round(colour[k], 3).tolist(),
+            "share_of_picture": round(float(share[k]), 3), "nearest_train_camera": round(float(nearest[k]), 3),
+            "train_frustums": int(frustums[k]), "scale_over_nearest": round(float(radius[k] / nearest[k]), 3),
+        } for k in order]
+    angular = radius / np.maximum(nearest, 1e-6)
+    rules = {f"scale_over_nearest_camera>{k}": angular > k for k in (0.05, 0.1, 0.2, 0.4)}
+    rules.update({f"train_frustums<{k}": frustums < k for k in (1, 2, 4)})
+    centre_t = centres_of(train)
+    for sig in (2.0, 3.0):
+        rules[f"holds_train_camera_{sig}_sigma"] = holding_cameras(
+            g["means"], g["quats"], g["scales"], centre_t, sig).numpy()
+    results = {}
+    for name, drop in rules.items():
+        kept = without(g, drop)
+        test, trained = psnrs(run, scene.test, kept, device), psnrs(run, sampled, kept, device)
+        results[name] = {"removed": int(drop.sum()), "test_psnr_mean": round(float(np.mean(list(test.values()))), 2),
+                         "train_psnr_mean": round(float(np.mean(list(trained.values()))), 2), "test": test}
+        print(name, results[name]["removed"], results[name]["test_psnr_mean"], results[name]["train_psnr_mean"])
+    record = {"run": args.run, "gaussians": len(means),
+              "base": {"test": base_test, "test_psnr_mean": round(float(np.mean(list(base_test.values()))), 2),
+                       "train_sampled": base_train,
+                       "train_psnr_mean": round(float(np.mean(list(base_train.values()))), 2)},
+              "culprits": culprits, "rules": results,
+              "scale_over_nearest_percentiles": np.round(np.percentile(angular, [50, 90, 99, 99.9]), 4).tolist()}
+    Path(args.out).write_text(json.dumps(record, indent=1))
+    print(args.out, "base test", record["base"]["test_psnr_mean"], "train", record["base"]["train_psnr_mean"])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
