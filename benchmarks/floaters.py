@@ -28,6 +28,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from engine.base.device import pick_device  # noqa: E402
 from engine.formats.cameras import Camera, project  # noqa: E402
 from engine.metrics.evaluate import evaluate_views  # noqa: E402
+from engine.train.background_floaters import background_floaters  # noqa: E402
 from engine.train.camera_clearance import centres_of, holding_cameras  # noqa: E402
 from engine.train.trained_run import load_run  # noqa: E402
 
@@ -55,11 +56,13 @@ def in_frustums(cameras: list[Camera], means: np.ndarray) -> np.ndarray:
 
 
 def psnrs(run, views: list[int], gaussians, device) -> dict[str, float]:
-    return evaluate_views(run.scene, views, gaussians, run.classifier, run.sh_degree, device)["psnr_per_view"]
+    gaussians = {k: v.to(device) for k, v in gaussians.items()}
+    classifier = run.classifier.to(device)
+    return evaluate_views(run.scene, views, gaussians, classifier, run.sh_degree, device)["psnr_per_view"]
 
 
 def without(gaussians: dict, drop: np.ndarray) -> dict:
-    keep = torch.as_tensor(~drop)
+    keep = torch.as_tensor(~np.asarray(drop, bool))
     return {k: v[keep] for k, v in gaussians.items()}
 
 
@@ -107,6 +110,7 @@ def main() -> int:
     for sig in (2.0, 3.0):
         rules[f"holds_train_camera_{sig}_sigma"] = holding_cameras(
             g["means"], g["quats"], g["scales"], centre_t, sig).numpy()
+    rules["background_floaters"] = background_floaters(g, train, run.sh_degree, device)  # the engine's rule
     results = {}
     for name, drop in rules.items():
         kept = without(g, drop)

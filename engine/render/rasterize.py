@@ -98,6 +98,13 @@ def sh_colors(gaussians: Gaussians, offsets: torch.Tensor, sh_degree: int, backe
     return eval_sh(sh_degree, sh0, sh_rest, torch.nn.functional.normalize(offsets, dim=-1))
 
 
+def view_colours(gaussians: Gaussians, camera: CameraTensors, sh_degree: int, backend: str) -> torch.Tensor:
+    """Each Gaussian's RGB (N, 3) as `camera` sees it: its SH colour towards the camera, offset and clamped at 0
+    as 3DGS renders it."""
+    offsets = gaussians["means"].detach() - camera.center
+    return torch.clamp_min(sh_colors(gaussians, offsets, sh_degree, backend) + 0.5, 0.0)
+
+
 def rasterize(gaussians: Gaussians, features: torch.Tensor, camera: CameraTensors, backend: str,
               depth: bool = True) -> tuple[torch.Tensor, torch.Tensor, dict]:
     """Blend per-Gaussian `features` (N, D) into (H, W, D [+ 1 expected depth]) and alpha (H, W, 1) on
@@ -148,8 +155,7 @@ def render_views(gaussians: Gaussians, cameras: list[CameraTensors], sh_degree: 
         return [render_views(gaussians, [c], sh_degree, backend, classifier, depth, identity)[0] for c in cameras]
     means = gaussians["means"]
     backend = backend or default_backend(means.device)
-    rgbs = [torch.clamp_min(sh_colors(gaussians, means.detach() - c.center, sh_degree, backend) + 0.5, 0.0)
-            for c in cameras]
+    rgbs = [view_colours(gaussians, c, sh_degree, backend) for c in cameras]
     rgb = rgbs[0][None] if len(rgbs) == 1 else torch.stack(rgbs)  # one view: no copy
     features, project_first = rgb, False
     if identity:

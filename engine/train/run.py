@@ -26,7 +26,8 @@ from engine.capture.scene import load_scene
 from engine.formats.layout import RunLayout
 from engine.io.ply_io import save_classifier, save_ply
 from engine.metrics.evaluate import evaluate_views
-from engine.train.camera_clearance import SIGMAS, centres_of, holders_of
+from engine.train.background_floaters import background_floaters
+from engine.train.camera_clearance import EMPTY_LOGIT, SIGMAS, centres_of, holders_of
 from engine.train.config import TrainConfig
 from engine.train.trainer import Trainer
 
@@ -138,7 +139,22 @@ def _test_view_holders(trainer: Trainer, scene) -> dict[str, int]:
     return dict(zip((camera.name for camera in views), counts, strict=True))
 
 
+def _empty_background_floaters(trainer: Trainer, scene) -> int | None:
+    """With --background-floaters (and the black background it needs), empty the Gaussians that no training view
+    can tell from the background (engine.train.background_floaters); how many, or None where it did not run."""
+    if not trainer.config.background_floaters or trainer.config.background != "black":
+        return None
+    floaters = background_floaters(trainer.gaussians, [scene.cameras[i] for i in scene.train], trainer.sh_degree,
+                                   trainer.device)
+    trained = torch.as_tensor(floaters[trainer.fixed_count:], device=trainer.device)
+    with torch.no_grad():
+        opacities = trainer.params["opacities"]
+        opacities.masked_fill_(trained.reshape(opacities.shape), EMPTY_LOGIT)
+    return int(trained.sum())
+
+
 def _finish(trainer: Trainer, scene, run: Path) -> dict:
+    floaters = _empty_background_floaters(trainer, scene)
     save_checkpoint(run, trainer, trainer.config.keep_checkpoints)
     save_ply(RunLayout(run).point_cloud, trainer.gaussians)
     save_classifier(RunLayout(run).classifier, trainer.classifier)
@@ -153,6 +169,7 @@ def _finish(trainer: Trainer, scene, run: Path) -> dict:
                                 if trainer.device.type == "cuda" else None))
     metrics["camera_holders"] = int(trainer.camera_holders)  # Gaussians emptied for holding a training camera
     metrics["test_view_holders"] = _test_view_holders(trainer, scene)
+    metrics["background_floaters"] = floaters  # emptied at the end (None: --no-background-floaters)
     if trainer.colours is not None:  # how far the photos' exposures strayed (the scene renders without them)
         metrics["view_colours"] = trainer.colours.report()
     _write_json(RunLayout(run).metrics_json, metrics)
