@@ -110,7 +110,8 @@ def main() -> int:
     for sig in (2.0, 3.0):
         rules[f"holds_train_camera_{sig}_sigma"] = holding_cameras(
             g["means"], g["quats"], g["scales"], centre_t, sig).numpy()
-    rules["background_floaters"] = background_floaters(g, train, run.sh_degree, device)  # the engine's rule
+    for tolerance in (0.01, 0.03, 0.06):  # the engine's rule (train --background-floaters TOLERANCE)
+        rules[f"background_floaters_{tolerance}"] = background_floaters(g, train, run.sh_degree, device, tolerance)
     results = {}
     for name, drop in rules.items():
         kept = without(g, drop)

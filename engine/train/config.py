@@ -69,8 +69,9 @@ class TrainConfig:
     background: str = "black"  # black | random: behind the Gaussians in a training view (random: a colour a view)
     camera_clearance: float = SIGMAS  # Gaussians whose ellipsoid holds a training camera at this many sigma are emptied
     # before each refinement and at the end (engine.train.camera_clearance; 0: never)
-    background_floaters: bool = False  # at the end, empty the Gaussians no training view tells from a black background
-    # (engine.train.background_floaters: the skull capture's flat test views); off until measured on the GPU
+    background_floaters: float = 0.0  # empty at the end what changes no training view by this (0-1 colour; 0: off)
+    # where it is drawn, over the black background (engine.train.background_floaters: the skull capture's flat test
+    # views); off until measured on the GPU
     lr_colours: float = 1e-3  # learning rate of the per-view colour corrections
     identity_weight: float = 1.0  # weight of the identity cross-entropy (divided by log of the class count)
     identity_every: int = 8  # render and train the identities on every Nth step only (1: every step, the paper's)

@@ -140,12 +140,14 @@ def _test_view_holders(trainer: Trainer, scene) -> dict[str, int]:
 
 
 def _empty_background_floaters(trainer: Trainer, scene) -> int | None:
-    """With --background-floaters (and the black background it needs), empty the Gaussians that no training view
-    can tell from the background (engine.train.background_floaters); how many, or None where it did not run."""
-    if not trainer.config.background_floaters or trainer.config.background != "black":
+    """With --background-floaters TOLERANCE (and the black background it needs), empty the Gaussians that no
+    training view can tell from the background (engine.train.background_floaters); how many, or None where it did
+    not run."""
+    tolerance = trainer.config.background_floaters
+    if tolerance <= 0 or trainer.config.background != "black":
         return None
     floaters = background_floaters(trainer.gaussians, [scene.cameras[i] for i in scene.train], trainer.sh_degree,
-                                   trainer.device)
+                                   trainer.device, tolerance)
     trained = torch.as_tensor(floaters[trainer.fixed_count:], device=trainer.device)
     with torch.no_grad():
         opacities = trainer.params["opacities"]
@@ -169,7 +171,7 @@ def _finish(trainer: Trainer, scene, run: Path) -> dict:
                                 if trainer.device.type == "cuda" else None))
     metrics["camera_holders"] = int(trainer.camera_holders)  # Gaussians emptied for holding a training camera
     metrics["test_view_holders"] = _test_view_holders(trainer, scene)
-    metrics["background_floaters"] = floaters  # emptied at the end (None: --no-background-floaters)
+    metrics["background_floaters"] = floaters  # emptied at the end (None: --background-floaters 0)
     if trainer.colours is not None:  # how far the photos' exposures strayed (the scene renders without them)
         metrics["view_colours"] = trainer.colours.report()
     _write_json(RunLayout(run).metrics_json, metrics)

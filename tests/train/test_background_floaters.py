@@ -97,6 +97,6 @@ def test_a_run_with_the_option_reports_the_floaters_it_emptied(living_scene: Pat
     from engine.train.run import train
 
     config = TrainConfig(scene=str(living_scene), out=str(tmp_path / "run"), preset="tiny", device="cpu",
-                         background_floaters=True).resolved()
+                         background_floaters=0.01).resolved()
     metrics = train(dataclasses.replace(config, steps=2))
     assert isinstance(metrics["background_floaters"], int)
