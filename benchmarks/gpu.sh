@@ -24,7 +24,8 @@
 #   removal SCENE                  benchmarks/removal_sweep.py: thresholds and hole-mask settings     ("Removal")
 #   segments SCENE...              a 100k-budget training each, then benchmarks/segments.py    ("Objects without masks")
 #   capture PHOTOS...              benchmarks/capture_path.py: the README's "Your own capture" on real photos, timed, and
-#                                  its pictures; pycolmap's wheel sent (.whl or carry.py)             ("Real captures")
+#                                  its pictures, then benchmarks/floaters.py on its trained run (what covers its worst
+#                                  test views; the PSNRs without each candidate rule's Gaussians)    ("Real captures")
 #   inpaint PHOTOS [VIEWS]         benchmarks/inpaint_speed.py: seconds per 1 MP view, every offline inpainter ("Inpainting")
 #   subject SCENE...               train, segment --auto (scored by benchmarks/segments.py), remove object_1, holes:
 #                                  the subject found and removed without masks                  ("Objects without masks")
@@ -44,12 +45,28 @@
 #   save-build                     gsplat's built extension into $OUT/gsplat_build.tgz (send it back as .gsplat_build/)
 #   wheels                         HERE, not on the GPU machine: download the wheels it lacks into .whl/ (17 MB,
 #                                  git-ignored); imageio-ffmpeg (68 MB, for turntable MP4s) goes through carry.py
+#   pack                           HERE: `wheels`, then what the real captures need in three sends of under 64 MiB:
+#                                  .bench/carry-1 (pycolmap, lpips, onnxruntime's small deps), .bench/carry-2
+#                                  (onnxruntime, the u2netp and ST-LPIPS weights from `make setup`), .bench/cap/skull
+#                                  and .bench/cap_statue_only/statue (the photos): send [.whl, .bench/carry-1] with
+#                                  `setup`, [.bench/carry-2, .bench/cap], then [.bench/cap_statue_only]
 set -o pipefail
 if [ "$1" = wheels ]; then
   python3 -m pip download -q --no-deps --only-binary=:all: --python-version 3.12 --implementation cp \
     --platform manylinux_2_28_x86_64 --platform manylinux_2_27_x86_64 --platform manylinux_2_17_x86_64 \
     --platform manylinux2014_x86_64 -d .whl gsplat==1.5.3 jaxtyping wadler-lindig plyfile==1.1.5 OpenImageIO==3.2.2.0 \
     rich markdown-it-py mdurl pygments && du -sh .whl; exit; fi
+if [ "$1" = pack ]; then
+  bash "$0" wheels || exit 1
+  [ -f .weights/u2netp.onnx ] && [ -f .weights/alex_shift_tolerant.pth ] || { echo "gpu.sh pack: run make setup first" >&2; exit 1; }
+  big=$(mktemp -d); python3 -m pip download -q --no-deps --only-binary=:all: --python-version 3.12 --implementation cp \
+    --platform manylinux_2_28_x86_64 --platform manylinux2014_x86_64 -d $big pycolmap==4.2.1 onnxruntime==1.31.1 \
+    lpips==0.1.4 coloredlogs==15.0.1 flatbuffers humanfriendly==10.0 || exit 1
+  rm -rf .bench/carry-*; python3 benchmarks/carry.py split $big/pycolmap-*.whl $big/coloredlogs-*.whl $big/flatbuffers-*.whl \
+    $big/humanfriendly-*.whl $big/lpips-*.whl $big/onnxruntime-*.whl .weights/alex_shift_tolerant.pth .weights/u2netp.onnx --mb 40
+  photos=${CAPTURES:-../shared/captures}; rm -rf .bench/cap .bench/cap_statue_only
+  mkdir -p .bench/cap/skull .bench/cap_statue_only/statue && cp -r $photos/skull/images .bench/cap/skull/ &&
+    cp -r $photos/statue/images .bench/cap_statue_only/statue/ && du -sh .whl .bench/*; rm -rf $big; exit; fi
 G=/tmp/gpu; mkdir -p $G/scenes $G/files $G/out
 export PYTHONPATH=/tmp/site:. PYTHONUNBUFFERED=1 SPLATFILL_ENGINE_PYTHON=$(command -v python3)
 export SPLATFILL_WEIGHTS=${SPLATFILL_WEIGHTS:-$G/files} TORCH_CUDA_ARCH_LIST=${TORCH_CUDA_ARCH_LIST:-9.0}
@@ -127,7 +144,8 @@ case $name in
   judge) judge "$@";;
   inpaint) python3 benchmarks/inpaint_speed.py $1 $(out inpaint) ${2:-16};;
   capture) for p in "$@"; do n=$(basename $(dirname $p)); [ "$(basename $p)" = images ] || n=$(basename $p)
-             rm -rf $G/cap/$n; python3 benchmarks/capture_path.py $p $G/cap/$n $(out capture); done;;
+             rm -rf $G/cap/$n; python3 benchmarks/capture_path.py $p $G/cap/$n $(out capture) &&
+             python3 benchmarks/floaters.py $G/cap/$n/run $(out capture)/${n}_floaters.json --device cuda | tail -n 14; done;;
   subject) for s in "$@"; do S=$(scene $s) R=$G/subject/$s D=$(out subject); rm -rf $R
              { python3 -m engine train --scene $S --out $R --device cuda && python3 benchmarks/segments.py --run $R --results $D &&
                python3 -m engine segment --run $R --auto && python3 -m engine remove --run $R --object object_1 &&
