@@ -15,7 +15,6 @@ This reads the run where it was trained and writes, small:
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from pathlib import Path
@@ -25,6 +24,7 @@ import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
+from benchmarks.records import run_study_args  # noqa: E402
 from engine.base.device import pick_device  # noqa: E402
 from engine.formats.cameras import Camera, project  # noqa: E402
 from engine.metrics.evaluate import evaluate_views  # noqa: E402
@@ -67,11 +67,7 @@ def without(gaussians: dict, drop: np.ndarray) -> dict:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("run")
-    parser.add_argument("out")
-    parser.add_argument("--device", default="auto")
-    args = parser.parse_args()
+    args = run_study_args(__doc__)
     run, device = load_run(args.run), pick_device(args.device)
     scene, g = run.scene, run.gaussians
     train = [scene.cameras[i] for i in scene.train]

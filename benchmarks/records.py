@@ -24,6 +24,16 @@ def provenance() -> dict:
             "torch": torch.__version__, "commit": code_commit(), "command": "python " + shlex.join(sys.argv)}
 
 
+def run_study_args(doc: str) -> argparse.Namespace:
+    """`SCRIPT RUN OUT [--device D]`, the arguments of a study that reads a trained run where it was trained and
+    writes one small file to carry home (benchmarks/subject_inputs.py, benchmarks/floaters.py)."""
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    parser.add_argument("run")
+    parser.add_argument("out")
+    parser.add_argument("--device", default="auto")
+    return parser.parse_args()
+
+
 def save_record(results: Path, name: str, record: dict) -> None:
     results.mkdir(parents=True, exist_ok=True)
     (results / f"{name}.json").write_text(json.dumps(record, indent=1))

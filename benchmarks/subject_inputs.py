@@ -12,7 +12,6 @@ folder does not come back, so a different rule can only be judged on what it was
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -21,6 +20,7 @@ import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
+from benchmarks.records import run_study_args  # noqa: E402
 from engine.base.device import pick_device  # noqa: E402
 from engine.geometry.scene_geometry import camera_frame, find_supports  # noqa: E402
 from engine.segment.proposals import propose  # noqa: E402
@@ -30,11 +30,7 @@ from engine.train.trained_run import load_run  # noqa: E402
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("run")
-    parser.add_argument("out")
-    parser.add_argument("--device", default="auto")
-    args = parser.parse_args()
+    args = run_study_args(__doc__)
     config, run = SegmentConfig(run=args.run, auto=True), load_run(args.run)
     device = pick_device(args.device)
     means = run.gaussians["means"].numpy()

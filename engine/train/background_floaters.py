@@ -11,10 +11,11 @@ not find them.
 
 How: removing one Gaussian changes a pixel by exactly its opacity times the pixel's derivative with respect to it
 (a render is affine in each opacity), so one backward pass a channel gives every Gaussian's change summed over a
-view, and one through a constant feature its drawn weight. A Gaussian whose change, per unit of weight, stays
-under TOLERANCE in every training view is a candidate. Two layers of one surface each pass that test (either hides
-a copy of itself), so the candidates are then removed together, each view rendered without them, and a candidate
-drawn where that joint removal changed the picture goes back, until the rest change no training view.
+view, and one through a constant feature its drawn weight. A Gaussian whose change over the training views, per
+unit of its weight in them, stays under TOLERANCE is a candidate. The two sheets of a wall seen from both sides
+each pass that test (from each side the near one hides the far one), so the candidates are then removed together,
+each view rendered without them, and a candidate drawn where that joint removal changed the picture goes back,
+until the rest change no training view.
 
 Only for the black training background (`train --background black`, the default): against a random colour a
 Gaussian never matches what is behind it. Unseen Gaussians (weight under MIN_WEIGHT in every view) are left as

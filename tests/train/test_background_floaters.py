@@ -36,24 +36,18 @@ def ball(radius: float = 0.3, step: float = 0.06) -> np.ndarray:
 
 
 def scene() -> tuple[dict, dict[str, slice], list[Camera], Camera]:
-    """A white ball at the origin with a black spot on its front and a second white ball of two coincident layers
-    (each layer hides a copy of itself), three training cameras in front, and a black, opaque floater off to the
-    side where the training views see it only over the black background; a test camera on the side sees it in
-    front of the ball."""
+    """A white ball at the origin with a black spot on its front, three training cameras in front, and a black,
+    opaque floater off to the side where the training views see it only over the black background; a test camera
+    on the side sees it in front of the ball."""
     white = ball()
-    layer = white[np.abs(white[:, 2]) < 0.05] + [0.0, 0.8, 0.0]
     parts = {"ball": gaussians(white, np.ones_like(white), scale=0.04),
              "spot": gaussians(np.array([[0.0, 0.0, 0.34]]), np.zeros((1, 3)), scale=0.05),
-             "layer_a": gaussians(layer, np.full_like(layer, 0.8), opacity=0.7),
              "floater": gaussians(np.array([[1.5, 0.0, 0.0]]), np.zeros((1, 3)), opacity=0.99, scale=0.3)}
-    parts["layer_b"] = parts["layer_a"]
-    order = ["ball", "spot", "layer_a", "layer_b", "floater"]
     slices, start = {}, 0
-    for name in order:
-        size = len(parts[name]["means"])
-        slices[name], start = slice(start, start + size), start + size
+    for name, part in parts.items():
+        slices[name], start = slice(start, start + len(part["means"])), start + len(part["means"])
     train = [looking_at(f"t{k}", np.array([x, 0.0, 3.0])) for k, x in enumerate((-1.0, 0.0, 1.0))]
-    return concat(*(parts[n] for n in order)), slices, train, looking_at("side", np.array([3.0, 0.0, 0.0]))
+    return concat(*parts.values()), slices, train, looking_at("side", np.array([3.0, 0.0, 0.0]))
 
 
 def pictures(splats: dict, cameras: list[Camera]) -> list[torch.Tensor]:
