@@ -15,6 +15,7 @@ This reads the run where it was trained and writes, small:
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import sys
 from pathlib import Path
@@ -28,7 +29,7 @@ from benchmarks.records import run_study_args  # noqa: E402
 from engine.base.device import pick_device  # noqa: E402
 from engine.formats.cameras import Camera, project  # noqa: E402
 from engine.metrics.evaluate import evaluate_views  # noqa: E402
-from engine.train.background_floaters import background_floaters  # noqa: E402
+from engine.train.background_floaters import background_floaters, view_change  # noqa: E402
 from engine.train.camera_clearance import centres_of, holding_cameras  # noqa: E402
 from engine.train.trained_run import load_run  # noqa: E402
 
@@ -53,6 +54,46 @@ def in_frustums(cameras: list[Camera], means: np.ndarray) -> np.ndarray:
         u, v, z = project(camera, means)
         count += (z > 0.01) & (u >= 0) & (u < camera.width) & (v >= 0) & (v < camera.height)
     return count
+
+
+def between(a: Camera, b: Camera) -> Camera:
+    """A camera halfway between `a` and `b`, facing the mean of their viewing directions (a's intrinsics): a view
+    the photographer passed on the way, which no training view holds."""
+    centre = (a.center + b.center) / 2
+    forward = (a.R[2] + b.R[2]) / np.linalg.norm(a.R[2] + b.R[2])
+    down = a.R[1] + b.R[1] - forward * np.dot(a.R[1] + b.R[1], forward)
+    down /= np.linalg.norm(down)
+    rotation = np.stack([np.cross(down, forward), down, forward])
+    return dataclasses.replace(a, name=f"{a.name}~{b.name}", R=rotation, t=-rotation @ centre)
+
+
+def between_views(cameras: list[Camera]) -> list[Camera]:
+    """One camera halfway between each training camera and its nearest neighbour (each pair once)."""
+    centres = np.stack([c.center for c in cameras])
+    pairs = set()
+    for i, c in enumerate(centres):
+        distances = np.linalg.norm(centres - c, axis=1)
+        distances[i] = np.inf
+        pairs.add(tuple(sorted((i, int(np.argmin(distances))))))
+    return [between(cameras[i], cameras[j]) for i, j in sorted(pairs)]
+
+
+def novel_view_floaters(gaussians: dict, train: list[Camera], sh_degree: int, device, ratios: tuple[float, ...]
+                        ) -> dict[str, np.ndarray]:
+    """Per ratio k, the Gaussians whose removal would change some view halfway between two training cameras more
+    than k times as much as it changes any training view (and by more than a thousandth of a picture): what the
+    training views cannot see but a view between them would (the skull's black Gaussians over the black
+    background)."""
+    g = {k: v.detach().to(device) for k, v in gaussians.items()}
+    most_train = torch.zeros(len(g["means"]), device=device)
+    for camera in train:
+        most_train = torch.maximum(most_train, view_change(g, camera, sh_degree, device)[0])
+    most_between = torch.zeros_like(most_train)
+    for camera in between_views(train):
+        most_between = torch.maximum(most_between, view_change(g, camera, sh_degree, device)[0])
+    floor = 1e-3 * train[0].width * train[0].height
+    return {f"novel_view_change>{k}x_train": ((most_between > k * most_train) & (most_between > floor)).cpu().numpy()
+            for k in ratios}
 
 
 def psnrs(run, views: list[int], gaussians, device) -> dict[str, float]:
@@ -106,6 +147,7 @@ def main() -> int:
     for sig in (2.0, 3.0):
         rules[f"holds_train_camera_{sig}_sigma"] = holding_cameras(
             g["means"], g["quats"], g["scales"], centre_t, sig).numpy()
+    rules.update(novel_view_floaters(g, train, run.sh_degree, device, (3.0, 10.0)))
     for tolerance in (0.01, 0.03, 0.06):  # the engine's rule (train --background-floaters TOLERANCE)
         rules[f"background_floaters_{tolerance}"] = background_floaters(g, train, run.sh_degree, device, tolerance)
     results = {}

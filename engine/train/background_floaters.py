@@ -55,25 +55,34 @@ def background_floaters(gaussians: Gaussians, cameras: list[Camera], sh_degree: 
 
 def _alone_change(gaussians: Gaussians, cameras: list[Camera], sh_degree: int, device: torch.device
                   ) -> tuple[torch.Tensor, torch.Tensor]:
-    """Per Gaussian, the colour change its removal alone makes, |summed over a view's pixels| per channel, added
-    over channels and views and divided by 3; and its drawn weight summed over the views."""
+    """Per Gaussian, view_change's change and weight summed over `cameras`."""
     n = len(gaussians["means"])
     change, weight = torch.zeros(n, device=device), torch.zeros(n, device=device)
-    backend = default_backend(device)
-    shape = gaussians["opacities"].shape
     for camera in cameras:
-        tensors = CameraTensors.from_camera(camera, device)
-        alpha = torch.sigmoid(gaussians["opacities"].flatten()).clamp(1e-6, 1 - 1e-6).requires_grad_(True)
-        live = dict(gaussians, opacities=torch.logit(alpha).reshape(shape))
-        colours = view_colours(gaussians, tensors, sh_degree, backend)
-        ones = torch.ones(n, 1, device=device, requires_grad=True)
-        out, _, _ = rasterize(live, torch.cat([colours, ones], -1), tensors, backend, depth=False)
-        for c in range(3):
-            (grad,) = torch.autograd.grad(out[..., c].sum(), alpha, retain_graph=True)
-            change += (alpha.detach() * grad).abs() / 3
-        (drawn,) = torch.autograd.grad(out[..., 3].sum(), ones)
-        weight += drawn[:, 0]
+        view, drawn = view_change(gaussians, camera, sh_degree, device)
+        change += view
+        weight += drawn
     return change, weight
+
+
+def view_change(gaussians: Gaussians, camera: Camera, sh_degree: int, device: torch.device
+                ) -> tuple[torch.Tensor, torch.Tensor]:
+    """Per Gaussian, the colour change its removal alone makes in `camera`'s picture (|summed over the pixels| per
+    channel, the channels' mean), and its drawn weight there (pixels at full opacity)."""
+    n = len(gaussians["means"])
+    backend = default_backend(device)
+    tensors = CameraTensors.from_camera(camera, device)
+    alpha = torch.sigmoid(gaussians["opacities"].flatten()).clamp(1e-6, 1 - 1e-6).requires_grad_(True)
+    live = dict(gaussians, opacities=torch.logit(alpha).reshape(gaussians["opacities"].shape))
+    colours = view_colours(gaussians, tensors, sh_degree, backend)
+    ones = torch.ones(n, 1, device=device, requires_grad=True)
+    out, _, _ = rasterize(live, torch.cat([colours, ones], -1), tensors, backend, depth=False)
+    change = torch.zeros(n, device=device)
+    for c in range(3):
+        (grad,) = torch.autograd.grad(out[..., c].sum(), alpha, retain_graph=True)
+        change += (alpha.detach() * grad).abs() / 3
+    (drawn,) = torch.autograd.grad(out[..., 3].sum(), ones)
+    return change, drawn[:, 0]
 
 
 def _joint_change(gaussians: Gaussians, removed: torch.Tensor, cameras: list[Camera], sh_degree: int,
