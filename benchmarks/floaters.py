@@ -27,6 +27,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from benchmarks.records import run_study_args  # noqa: E402
 from engine.base.device import pick_device  # noqa: E402
+from engine.edit.effects import colors_of  # noqa: E402
 from engine.formats.cameras import Camera, project  # noqa: E402
 from engine.metrics.evaluate import evaluate_views  # noqa: E402
 from engine.train.background_floaters import background_floaters, view_change  # noqa: E402
@@ -97,9 +98,9 @@ def novel_view_floaters(gaussians: dict, train: list[Camera], sh_degree: int, de
 
 
 def psnrs(run, views: list[int], gaussians, device) -> dict[str, float]:
-    gaussians = {k: v.to(device) for k, v in gaussians.items()}
-    classifier = run.classifier.to(device)
-    return evaluate_views(run.scene, views, gaussians, classifier, run.sh_degree, device)["psnr_per_view"]
+    """PSNR per view of `gaussians`, already on `device` (the run's classifier is moved there once)."""
+    return evaluate_views(run.scene, views, gaussians, run.classifier.to(device), run.sh_degree,
+                          device)["psnr_per_view"]
 
 
 def without(gaussians: dict, drop: np.ndarray) -> dict:
@@ -116,14 +117,15 @@ def main() -> int:
     scales = torch.exp(g["scales"]).numpy()
     radius = scales.max(1)
     opacity = torch.sigmoid(g["opacities"].flatten()).numpy()
-    colour = (g["sh0"].reshape(len(means), 3).numpy() * 0.28209479177387814 + 0.5).clip(0, 1)
+    colour = colors_of(g)
     centres = np.stack([c.center for c in train])
     nearest = np.full(len(means), np.inf)
     for c in centres:
         nearest = np.minimum(nearest, np.linalg.norm(means - c, axis=1))
     frustums = in_frustums(train, means)
     sampled = scene.train[::4]
-    base_test, base_train = psnrs(run, scene.test, g, device), psnrs(run, sampled, g, device)
+    on_device = {k: v.to(device) for k, v in g.items()}
+    base_test, base_train = psnrs(run, scene.test, on_device, device), psnrs(run, sampled, on_device, device)
     median = float(np.median(list(base_test.values())))
     culprits = {}
     for i in scene.test:
@@ -152,7 +154,7 @@ def main() -> int:
         rules[f"background_floaters_{tolerance}"] = background_floaters(g, train, run.sh_degree, device, tolerance)
     results = {}
     for name, drop in rules.items():
-        kept = without(g, drop)
+        kept = {k: v.to(device) for k, v in without(g, drop).items()}
         test, trained = psnrs(run, scene.test, kept, device), psnrs(run, sampled, kept, device)
         results[name] = {"removed": int(drop.sum()), "test_psnr_mean": round(float(np.mean(list(test.values()))), 2),
                          "train_psnr_mean": round(float(np.mean(list(trained.values()))), 2), "test": test}

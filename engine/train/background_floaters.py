@@ -95,14 +95,13 @@ def _joint_change(gaussians: Gaussians, removed: torch.Tensor, cameras: list[Cam
     total = torch.zeros(n, device=device)
     for camera in cameras:
         tensors = CameraTensors.from_camera(camera, device)
+        ones = torch.ones(n, 1, device=device, requires_grad=True)  # its gradient: each Gaussian's drawn weight
+        out, _, _ = rasterize(gaussians, torch.cat([view_colours(gaussians, tensors, sh_degree, backend), ones], -1),
+                              tensors, backend, depth=False)
         with torch.no_grad():
-            full, _, _ = rasterize(gaussians, view_colours(gaussians, tensors, sh_degree, backend), tensors, backend,
-                                   depth=False)
             without, _, _ = rasterize(rest, view_colours(rest, tensors, sh_degree, backend), tensors, backend,
                                       depth=False)
-            changed = (full - without).abs().mean(-1)
-        ones = torch.ones(n, 1, device=device, requires_grad=True)
-        out, _, _ = rasterize(gaussians, ones, tensors, backend, depth=False)
-        (grad,) = torch.autograd.grad((out[..., 0] * changed).sum(), ones)
+            changed = (out[..., :3] - without).abs().mean(-1)
+        (grad,) = torch.autograd.grad((out[..., 3] * changed).sum(), ones)
         total += grad[:, 0]
     return total
