@@ -29,6 +29,8 @@
 #   inpaint PHOTOS [VIEWS]         benchmarks/inpaint_speed.py: seconds per 1 MP view, every offline inpainter ("Inpainting")
 #   subject SCENE...               train, segment --auto (scored by benchmarks/segments.py), remove object_1, holes:
 #                                  the subject found and removed without masks                  ("Objects without masks")
+#   trained SCENE...               `engine train` at the defaults with TRAIN_FLAGS added, each scene's metrics.json
+#                                  (test PSNR, seconds) named by the flags: a training setting judged   ("Training")
 #   subject-inputs PHOTOS...       the README's capture, train (TRAIN_FLAGS added) and segment --auto on real photos,
 #                                  then benchmarks/subject_inputs.py: what the subject was chosen from, an npz to study here
 #   judge SCENE [REMOVE FLAGS]     base run, remove (with the flags), holes and a variant of them (JUDGE_VARIANT),
@@ -96,6 +98,7 @@ setup() {
 }
 
 scene() { [ -d "$1" ] && echo "$1" || echo $G/scenes/$1; }
+flags_tag() { [ -z "$TRAIN_FLAGS" ] || echo _$(echo "$TRAIN_FLAGS" | tr -c 'A-Za-z0-9' '_' | tr -s _ | sed 's/^_//; s/_$//'); }
 out() { local d=${RESULTS:-${OUT:-$G/out}}/$1; mkdir -p $d; echo $d; }
 
 judge() {  # $1 scene, the rest flags for `engine remove`; JUDGE_INPAINTER (telea), and a second set of hole masks
@@ -152,8 +155,14 @@ case $name in
                python3 -m engine holes --run $R; } > $G/subject_$s.log 2>&1 || { tail -5 $G/subject_$s.log; continue; }
              cp $R/removed/removal.json $D/${s}_removal.json; cp $R/holes/holes.json $D/${s}_holes.json
              cp $R/segments/sheet.png $D/${s}_segments.png; python3 -c "import json,sys; r=json.load(open(sys.argv[1])); h=json.load(open(sys.argv[2])); print(sys.argv[3], 'removed', r['removed'], 'psnr outside true hole', r['psnr_outside_hole'], 'hole IoU', h['mean_iou_vs_truth'], 'unseen IoU', h['mean_unseen_iou_vs_truth'])" $D/${s}_removal.json $D/${s}_holes.json $s; done;;
+  trained) for s in "$@"; do n=$(basename $s)$(flags_tag) R=$G/trained/$n; rm -rf $R
+             python3 -m engine train --scene $(scene $s) --out $R --device cuda $TRAIN_FLAGS > $G/trained_$n.log 2>&1 ||
+               { tail -5 $G/trained_$n.log; continue; }
+             cp $R/metrics.json $(out trained)/${n}_metrics.json
+             python3 -c "import json,sys; m=json.load(open(sys.argv[1])); print(sys.argv[2], 'test PSNR', m['psnr'], 'train s', m['train_seconds'])" \
+               $R/metrics.json $n; done;;
   subject-inputs) for p in "$@"; do n=$(basename $(dirname $p)); [ "$(basename $p)" = images ] || n=$(basename $p)
-             [ -z "$TRAIN_FLAGS" ] || n=${n}_$(echo "$TRAIN_FLAGS" | tr -c 'A-Za-z0-9' '_' | tr -s _ | sed 's/^_//; s/_$//')
+             n=$n$(flags_tag)
              C=$G/diag/$n D=$(out subject-inputs); rm -rf $C
              { python3 -m engine capture --images $p --out $C/capture && python3 -m engine train --scene $C/capture --out $C/run $TRAIN_FLAGS &&
                python3 -m engine segment --run $C/run --auto &&

@@ -15,11 +15,13 @@ views' poses play no part.
 
 How deep (`train --camera-clearance S`; test PSNR on an H200, docs/BENCHMARKS.md "Real captures"): the statue capture
 19.23 / 20.54 / 20.36 dB at 1 / 2 / 3 sigma, the skull 17.02 / 19.56 / 21.22: the captures' floaters reach past the
-core. But at 2 sigma (58a97ca) and at 3 (a04844c's parent) the small CPU runs that `make demo` and the tests train
-(128 px, 20k Gaussians) lost their walls: wall Gaussians 0.4-0.7 wide stood 1.0-1.35 from the cameras (1.9-3 sigma),
-were emptied again and again while the photos grew them back (1.6 dB lost at 3 sigma), and at 2 sigma four tests
-failed: segmentation found one object where the livingroom has several, none on the wall. So the core is the default,
-and a capture may ask for more.
+core, so the default preset clears FULL_SIGMAS (3; its density there 1% of the peak). The tiny CPU preset keeps the
+core: at 2 sigma (58a97ca) and at 3 (a04844c's parent) the small runs that `make demo` and the tests train (128 px,
+20k Gaussians, DefaultStrategy) lost their walls: wall Gaussians 0.4-0.7 wide stood 1.0-1.35 from the cameras
+(1.9-3 sigma), were emptied again and again while the photos grew them back (1.6 dB lost at 3 sigma), and at 2 sigma
+four tests failed: segmentation found one object where the livingroom has several, none on the wall. At full size
+a wall's Gaussians are flat and small beside their distance to the cameras (docs/BENCHMARKS.md "Real captures"
+has the generated families at 1 and 3 sigma).
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ import torch
 from engine.render.rasterize_reference import quat_rotations
 
 SIGMAS = 1.0  # a camera inside the core: the density there at least exp(-1/2) of the peak
+FULL_SIGMAS = 3.0  # the default preset's depth: the density there at least exp(-9/2), 1% of the peak
 EMPTY_LOGIT = -12.0  # sigmoid: 6e-6, below MCMC's relocation floor and DefaultStrategy's pruning one (0.005)
 CHUNK = 65_536  # Gaussians tested at once (memory: CHUNK x cameras x 3)
 

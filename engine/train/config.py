@@ -10,7 +10,7 @@ import dataclasses
 from dataclasses import dataclass
 
 from engine.base.errors import InputError
-from engine.train.camera_clearance import SIGMAS
+from engine.train.camera_clearance import FULL_SIGMAS, SIGMAS
 
 PRESETS: dict[str, dict] = {
     # Gaussian Grouping's schedule (refine every 100 from 500 to 15k, reset opacity every 3k) and its
@@ -21,7 +21,7 @@ PRESETS: dict[str, dict] = {
     # rasterizer's cost does not follow the channel count, so skipping them saves nothing there).
     "tiny": dict(steps=200, max_gaussians=0, sh_degree=1, sh_degree_interval=100, refine_start=50, refine_stop=150,
                  refine_every=50, reset_every=100_000, checkpoint_every=100, log_every=10, reg3d_refresh=100,
-                 identity_every=1),
+                 identity_every=1, camera_clearance=SIGMAS),  # the core only: its 128 px walls stand near the cameras
 }
 
 COLOUR_MODELS = ("off", "gain", "affine")  # engine.train.view_colours
@@ -67,8 +67,8 @@ class TrainConfig:
     # 30k budget) it lost, 18.98 against 23.28 dB; the skull capture's 14.5 dB on an H200 was Gaussians holding the
     # cameras (engine.train.camera_clearance: 20.57 dB with black), not its transparency
     background: str = "black"  # black | random: behind the Gaussians in a training view (random: a colour a view)
-    camera_clearance: float = SIGMAS  # Gaussians whose ellipsoid holds a training camera at this many sigma are emptied
-    # before each refinement and at the end (engine.train.camera_clearance; 0: never)
+    camera_clearance: float = FULL_SIGMAS  # Gaussians whose ellipsoid holds a training camera at this many sigma are
+    # emptied before each refinement and at the end (engine.train.camera_clearance; 0: never; the tiny preset: 1)
     background_floaters: float = 0.0  # empty at the end what changes no training view by this (0-1 colour; 0: off)
     # where it is drawn, over the black background (engine.train.background_floaters: the skull capture's flat test
     # views); off until measured on the GPU
