@@ -40,6 +40,7 @@ from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import emit, say
 from engine.capture.scene import Scene, SceneObject
 from engine.formats.cameras import Camera, backproject, project, sample_nearest
+from engine.formats.checks import read_json
 from engine.formats.layout import RunLayout, SegmentsLayout
 from engine.formats.splat_ply import IDENTITY_DIM, SH_C0
 from engine.geometry.scene_geometry import (
@@ -214,6 +215,7 @@ def run_segment(run, config: SegmentConfig) -> dict:
         if config.auto and objects:
             stats["subject_share"] = round(float((ids == 1).mean()), 4)  # object_1's share of the scene's Gaussians
             stats["solid_share"] = round(float((opacity >= config.solid).mean()), 4)
+            stats["test_psnr"] = _test_psnr(run.layout)
             stats["weak_evidence"] = weak_evidence(stats) if config.salient else []
             for reason in stats["weak_evidence"]:
                 say(f"segment --auto: {reason}. Look at {out.sheet}; to pick the subject yourself, click it: "
@@ -237,6 +239,13 @@ def run_segment(run, config: SegmentConfig) -> dict:
         write_png(target.sheet, segments_sheet(run.scene, masks, objects))
     emit("done", stage="segment", out=str(out.root), objects=len(objects))
     return report
+
+
+def _test_psnr(layout: RunLayout) -> float | None:
+    """The run's test PSNR from its metrics.json (None where it has no test views or no number), which tells a
+    mostly faint model that fits its photos from one that does not (saliency_votes.weak_evidence)."""
+    psnr = read_json(layout.metrics_json).get("psnr") if layout.metrics_json.is_file() else None
+    return round(float(psnr), 2) if isinstance(psnr, (int, float)) and np.isfinite(psnr) else None
 
 
 def _keep_previous(current: Path, previous: Path) -> None:

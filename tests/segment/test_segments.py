@@ -120,6 +120,7 @@ def test_auto_finds_the_target_without_masks(run_copy: Path, tmp_path: Path):
     assert report["subject_share"] == pytest.approx(sizes["object_1"] / len(load_run(run_copy).gaussians["means"]),
                                                     abs=1e-4)
     assert report["weak_evidence"] == [], report  # a whole object, a few percent of the scene
+    assert report["test_psnr"] == round(json.loads((run_copy / "metrics.json").read_text())["psnr"], 2)
     removal = run_removal(RemovalConfig(run=str(run_copy), object="object_1", out=str(tmp_path / "r"), device="cpu"))
     assert removal["removed"] > 0
 
@@ -130,11 +131,16 @@ def test_auto_finds_the_target_without_masks(run_copy: Path, tmp_path: Path):
                                              ({"subject": "votes", "subject_share": 0.1296}, None),
                                              ({"subject": "votes", "subject_share": 0.0049, "solid_share": 0.014},
                                               "1.4% of the scene's Gaussians are opaque enough"),
+                                             ({"subject": "votes", "subject_share": 0.0049, "solid_share": 0.014,
+                                               "test_psnr": 14.5}, "1.4% of the scene's Gaussians are opaque enough"),
+                                             ({"subject": "votes", "subject_share": 0.05, "solid_share": 0.021,
+                                               "test_psnr": 39.63}, None),
                                              ({"subject": "votes", "subject_share": 0.17, "solid_share": 0.38}, None)])
 def test_auto_says_when_its_subject_may_not_be_the_one(stats: dict, says: str | None):
     """The real captures' subjects: a patch of a plush toy's back (1.3% of the Gaussians), a skull with most of
     its room (78%), the statue (13%, right); a skull whose model was mostly transparent (1.4% of its Gaussians
-    solid: whatever was found in it, the model is the problem)."""
+    solid, 14.5 dB: whatever was found in it, the model is the problem); a generated livingroom that MCMC left mostly
+    faint at a budget beyond its needs (2.1% solid) but that renders its test views at 39.6 dB, its subject right."""
     reasons = weak_evidence(stats)
     assert (reasons == []) if says is None else (len(reasons) == 1 and says in reasons[0]), reasons
 
