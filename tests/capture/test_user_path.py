@@ -3,7 +3,7 @@ images as JPEGs, half of them stored sideways with an EXIF orientation tag as ph
 poses, masks or ground truth).
 
 The commands are read from the README's code block, so the test fails when the README drifts. The only
-additions are the test's sizes: training gets `--preset tiny --steps 300`, every stage that renders
+additions are the test's sizes: training gets `--preset tiny --steps 200`, every stage that renders
 `--device cpu`.
 """
 
@@ -69,7 +69,7 @@ def test_the_readme_user_path_runs_as_written_from_photos(photos: Path, tmp_path
     for command in commands:
         command = command.replace(".venv/bin/python", sys.executable)
         if " train " in command:
-            command += " --preset tiny --steps 300"
+            command += " --preset tiny --steps 200"
         # telea and the other OpenCV inpainters run on the CPU; holes reads the removal's renders and renders nothing
         if command.split()[3] not in ("capture", "inpaint", "holes"):
             command += " --device cpu"

@@ -45,13 +45,10 @@ def held_out_psnr(trainer: Trainer, scene, truth: dict[int, np.ndarray]) -> floa
                                      torch.as_tensor(truth[i]).float() / 255)) for i in scene.test]))
 
 
-@pytest.mark.parametrize("model", ["affine", "gain"])
-def test_each_views_exposure_is_learned_and_the_scene_keeps_the_photos_average(orbit_32: Path, model: str):
-    """Each training photo's channels scaled by 0.7-1.3: the corrections learn those gains (their correlation
-    with the true ones, relative to the mean, was 0.98 with either of two draws) and the scene, rendered without
-    them, matches the test views at the photos' mean exposure better than a run without them (measured: +0.50
-    and +0.98 dB at 400 steps; on photos at one exposure the correction cost 0.25 dB, so it is off by default).
-    Both models: the affine one and the gain alone."""
+@pytest.fixture(scope="module")
+def exposures(orbit_32: Path) -> tuple:
+    """The scene with each training photo's channels scaled by 0.7-1.3, their gains, the test views at the photos'
+    mean exposure, and a run without corrections on them (one for both models: the same seed trains the same run)."""
     scene = load_scene(orbit_32)
     rng = np.random.default_rng(0)
     gains = {i: rng.uniform(0.7, 1.3, 3) for i in scene.train}
@@ -59,7 +56,18 @@ def test_each_views_exposure_is_learned_and_the_scene_keeps_the_photos_average(o
         scene.images[i] = np.clip(scene.images[i] * gains[i], 0, 255).astype(np.uint8)
     mean_gain = np.mean(list(gains.values()), 0)
     truth = {i: np.clip(scene.images[i] * mean_gain, 0, 255).astype(np.uint8) for i in scene.test}
-    plain = trained(scene, 400, "off", orbit_32)
+    return scene, gains, mean_gain, truth, trained(scene, 400, "off", orbit_32)
+
+
+@pytest.mark.parametrize("model", ["affine", "gain"])
+def test_each_views_exposure_is_learned_and_the_scene_keeps_the_photos_average(orbit_32: Path, exposures: tuple,
+                                                                                model: str):
+    """Each training photo's channels scaled by 0.7-1.3: the corrections learn those gains (their correlation
+    with the true ones, relative to the mean, was 0.98 with either of two draws) and the scene, rendered without
+    them, matches the test views at the photos' mean exposure better than a run without them (measured: +0.50
+    and +0.98 dB at 400 steps; on photos at one exposure the correction cost 0.25 dB, so it is off by default).
+    Both models: the affine one and the gain alone."""
+    scene, gains, mean_gain, truth, plain = exposures
     corrected = trained(scene, 400, model, orbit_32)
     learned = corrected.colours.gains().numpy()
     true = np.stack([gains[i] for i in corrected.train_views]) / mean_gain
