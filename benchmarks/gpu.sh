@@ -150,8 +150,9 @@ case $name in
              rm -rf $G/cap/$n; python3 benchmarks/capture_path.py $p $G/cap/$n $(out capture) &&
              python3 benchmarks/floaters.py $G/cap/$n/run $(out capture)/${n}_floaters.json --device cuda | tail -n 14; done;;
   subject) for s in "$@"; do S=$(scene $s) R=$G/subject/$s D=$(out subject); rm -rf $R
-             { python3 -m engine train --scene $S --out $R --device cuda && python3 benchmarks/segments.py --run $R --results $D &&
-               python3 -m engine segment --run $R --auto && python3 -m engine remove --run $R --object object_1 &&
+             { python3 -m engine train --scene $S --out $R --device cuda && python3 -m engine segment --run $R --auto &&
+               python3 benchmarks/segments.py --run $R --results $D --from-run &&
+               python3 -m engine remove --run $R --object object_1 &&
                python3 -m engine holes --run $R; } > $G/subject_$s.log 2>&1 || { tail -5 $G/subject_$s.log; continue; }
              cp $R/removed/removal.json $D/${s}_removal.json; cp $R/holes/holes.json $D/${s}_holes.json
              cp $R/segments/sheet.png $D/${s}_segments.png; python3 -c "import json,sys; r=json.load(open(sys.argv[1])); h=json.load(open(sys.argv[2])); print(sys.argv[3], 'removed', r['removed'], 'psnr outside true hole', r['psnr_outside_hole'], 'hole IoU', h['mean_iou_vs_truth'], 'unseen IoU', h['mean_unseen_iou_vs_truth'])" $D/${s}_removal.json $D/${s}_holes.json $s; done;;

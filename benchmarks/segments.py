@@ -1,11 +1,13 @@
 """Benchmark objects found without ground-truth masks (engine.segment.run) on generated scenes, whose
 exact instance masks are hidden from `segment` and used only to score it.
 
-    python benchmarks/segments.py --run RUN [--run RUN ...] --results DIR
+    python benchmarks/segments.py --run RUN [--run RUN ...] --results DIR [--from-run]
     python benchmarks/segments.py --report [--results DIR]        # DIR/*.json -> DIR/tables.md
 
 Per run: `segment --auto` (geometry and salient votes): per ground-truth object the best proposal's mask IoU
 on the test views, whether object_1 (the subject) is the target, proposals that merge two objects, seconds.
+`--from-run` scores the objects the run's own `segment --auto` wrote instead of finding them again (gpu.sh's
+`subject` job, which removes object_1 after: one search, not two, on a machine whose minutes are counted).
 Then `--from-masks` with the training views' exact masks perturbed as a 2D tool gives them (ids shuffled per
 view, 10% of the segments split or merged): the share of segments associated to the right object, and the
 target's IoU on the test views. Engine Python; GPU for full-size runs.
@@ -14,6 +16,7 @@ target's IoU on the test views. Engine Python; GPU for full-size runs.
 from __future__ import annotations
 
 import argparse
+import json
 import shutil
 import sys
 import tempfile
@@ -36,31 +39,38 @@ def _masks(segments: Path, names: list[str]):
     return [read_png(SegmentsLayout(segments).masks / Path(n).with_suffix(".png"), kind="mask") for n in names]
 
 
-def measure(run_dir: Path, work: Path, pictures: Path, solid: float, seed: int = 0) -> dict:
+def measure(run_dir: Path, work: Path, pictures: Path, solid: float, seed: int = 0, from_run: bool = False) -> dict:
     import numpy as np
 
-    from engine.formats.layout import SegmentsLayout
+    from engine.capture.scene import load_scene
+    from engine.formats.layout import RunLayout, SegmentsLayout
     from engine.io.image_io import write_png
     from engine.metrics.segment_scores import association_accuracy, perturb_masks, proposal_scores
     from engine.segment.run import SegmentConfig, run_segment
     from engine.train.trained_run import load_run
 
     run = load_run(run_dir)
-    scene = run.scene
+    scene = load_scene(run.config.scene, run.config.resolution)  # the truth: load_run reads the run's segments in
+    # place of the scene's objects and masks where `segment` wrote them
     test = [scene.cameras[i].name for i in scene.test]
     truth_test = [scene.masks[i] for i in scene.test]
     ids = [o.id for o in scene.objects]
-    start = time.perf_counter()
-    auto = run_segment(run, SegmentConfig(run=str(run_dir), auto=True, solid=solid, out=str(work / "auto")))
-    seconds = time.perf_counter() - start
-    scores = proposal_scores(_masks(work / "auto", test), truth_test, ids)
+    auto_dir, seconds = RunLayout(run_dir).segments.root, None
+    if from_run:
+        auto = json.loads(SegmentsLayout(auto_dir).report.read_text())
+        solid = auto["config"]["solid"]
+    else:
+        auto_dir, start = work / "auto", time.perf_counter()
+        auto = run_segment(run, SegmentConfig(run=str(run_dir), auto=True, solid=solid, out=str(auto_dir)))
+        seconds = round(time.perf_counter() - start, 1)
+    scores = proposal_scores(_masks(auto_dir, test), truth_test, ids)
     pictures.mkdir(parents=True, exist_ok=True)
-    shutil.copy(SegmentsLayout(work / "auto").sheet, pictures / f"{scene.root.name}-auto-solid{solid:g}.png")
+    shutil.copy(SegmentsLayout(auto_dir).sheet, pictures / f"{scene.root.name}-auto-solid{solid:g}.png")
     names = {o.id: o.name for o in scene.objects}
     record = {"scene": scene.root.name, "gaussians": len(run.gaussians["means"]), "views": len(scene.cameras),
               "size": [scene.cameras[0].width, scene.cameras[0].height], "target": scene.target.name,
-              "auto": {"seconds": round(seconds, 1), "proposals": auto["objects"], "planes": auto.get("plane_heights"),
-                       "solid": solid,
+              "auto": {"seconds": seconds, "proposals": auto["objects"], "planes": auto.get("plane_heights"),
+                       "solid": solid, "weak_evidence": auto.get("weak_evidence"),
                        "merges": scores["merges"], "target_iou": scores["objects"][scene.target.id]["iou"],
                        "subject": auto.get("subject"),
                        "subject_is_target": scores["objects"][scene.target.id]["found"] == 1,
@@ -86,8 +96,9 @@ def run_bench(args: argparse.Namespace) -> None:
     args.solid = ProposalConfig.solid if args.solid is None else args.solid
     for run in args.run:
         with tempfile.TemporaryDirectory() as tmp:
-            record = {**measure(Path(run), Path(tmp), Path(args.results) / "pictures", args.solid), **provenance()}
-        save_record(Path(args.results), f"{record['scene']}-solid{args.solid:g}", record)
+            record = {**measure(Path(run), Path(tmp), Path(args.results) / "pictures", args.solid,
+                                from_run=args.from_run), **provenance()}
+        save_record(Path(args.results), f"{record['scene']}-solid{record['auto']['solid']:g}", record)
 
 
 def report(results: Path) -> None:
@@ -109,6 +120,8 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--run", nargs="*", default=[], help="training runs of generated scenes")
     parser.add_argument("--solid", type=float, help="segment --solid (default: segment's)")
+    parser.add_argument("--from-run", action="store_true",
+                        help="score the objects the run's own `segment --auto` wrote instead of searching again")
     return report_or_measure(parser, RESULTS, report, run_bench)
 
 
