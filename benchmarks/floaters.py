@@ -84,14 +84,13 @@ def novel_view_floaters(gaussians: dict, train: list[Camera], sh_degree: int, de
     """Per ratio k, the Gaussians whose removal would change some view halfway between two training cameras more
     than k times as much as it changes any training view (and by more than a thousandth of a picture): what the
     training views cannot see but a view between them would (the skull's black Gaussians over the black
-    background)."""
-    g = {k: v.detach().to(device) for k, v in gaussians.items()}
-    most_train = torch.zeros(len(g["means"]), device=device)
+    background). `gaussians` already on `device`."""
+    most_train = torch.zeros(len(gaussians["means"]), device=device)
     for camera in train:
-        most_train = torch.maximum(most_train, view_change(g, camera, sh_degree, device)[0])
+        most_train = torch.maximum(most_train, view_change(gaussians, camera, sh_degree, device)[0])
     most_between = torch.zeros_like(most_train)
     for camera in between_views(train):
-        most_between = torch.maximum(most_between, view_change(g, camera, sh_degree, device)[0])
+        most_between = torch.maximum(most_between, view_change(gaussians, camera, sh_degree, device)[0])
     floor = 1e-3 * train[0].width * train[0].height
     return {f"novel_view_change>{k}x_train": ((most_between > k * most_train) & (most_between > floor)).cpu().numpy()
             for k in ratios}
@@ -149,9 +148,10 @@ def main() -> int:
     for sig in (2.0, 3.0):
         rules[f"holds_train_camera_{sig}_sigma"] = holding_cameras(
             g["means"], g["quats"], g["scales"], centre_t, sig).numpy()
-    rules.update(novel_view_floaters(g, train, run.sh_degree, device, (3.0, 10.0)))
+    rules.update(novel_view_floaters(on_device, train, run.sh_degree, device, (3.0, 10.0)))
     for tolerance in (0.01, 0.03, 0.06):  # the engine's rule (train --background-floaters TOLERANCE)
-        rules[f"background_floaters_{tolerance}"] = background_floaters(g, train, run.sh_degree, device, tolerance)
+        rules[f"background_floaters_{tolerance}"] = background_floaters(on_device, train, run.sh_degree, device,
+                                                                        tolerance)
     results = {}
     for name, drop in rules.items():
         kept = {k: v.to(device) for k, v in without(g, drop).items()}

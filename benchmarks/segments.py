@@ -55,8 +55,8 @@ def measure(run_dir: Path, work: Path, pictures: Path, solid: float, seed: int =
     test = [scene.cameras[i].name for i in scene.test]
     truth_test = [scene.masks[i] for i in scene.test]
     ids = [o.id for o in scene.objects]
-    auto_dir, seconds = RunLayout(run_dir).segments.root, None
     if from_run:
+        auto_dir, seconds = RunLayout(run_dir).segments.root, None
         auto = json.loads(SegmentsLayout(auto_dir).report.read_text())
         solid = auto["config"]["solid"]
     else:
