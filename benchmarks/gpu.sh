@@ -127,6 +127,8 @@ judge() {  # $1 scene, the rest flags for `engine remove`; JUDGE_INPAINTER (tele
   cp $R/holes/holes.json $D/${name}_holes.json; cp $R/holes_variant/holes.json $D/${name}_holes_variant.json
   cp $R/removed/sheet.png $D/${name}_removed_sheet.png; cp $R/holes/sheet.png $D/${name}_holes_sheet.png
   cp $ref/scores.json $D/${name}_ref_scores.json; cp $var/scores.json $D/${name}_ref_variant_scores.json
+  cp $R/inpainted/$I/config.json $D/${name}_inpaint.json; cp $R/inpainted_variant/config.json $D/${name}_inpaint_variant.json
+  cp $R/inpainted/$I/sheet_test.png $D/${name}_inpainted.png; cp $R/inpainted_variant/sheet_test.png $D/${name}_inpainted_variant.png
   python3 benchmarks/leftovers.py $R $D/${name}_leftovers.json; cat $D/${name}_judge.txt $D/${name}_hole_error.txt
 }
 

@@ -204,3 +204,42 @@ def test_what_stands_on_the_support_beside_the_hole_gives_the_fill_no_colour(tmp
     assert redness[6].max() < 10, redness[6].max()  # the shielded one takes the wall's grey alone
     assert (fills[6][standing] == rgb[standing]).all()  # the object stays as rendered
     assert (fills[6][~hole & ~standing] == rgb[~hole & ~standing]).all()
+
+
+def test_the_hole_pixels_a_photo_saw_take_its_colour_and_only_the_rest_is_invented(tmp_path):
+    """holes/photo: a dark blob rendered where a grey wall stood, the photos' grey known for its left half. With
+    photos the left half is the photos' colour exactly and only the right half goes to the inpainter (and to the
+    IoU as inpainted); without, the inpainter fills it all (the blob's own dark edge a source no more either way)."""
+    from engine.formats.cameras import Camera
+    from engine.formats.layout import HolesLayout
+    from engine.inpaint.run import _fill_hole, inpaint_mask
+    from engine.io.image_io import write_depth, write_png
+
+    w, h = 64, 48
+    camera = Camera(name="v.png", width=w, height=h, fx=60.0, fy=60.0, cx=w / 2, cy=h / 2, R=np.eye(3),
+                    t=np.zeros(3))
+    rgb = np.full((h, w, 3), 120, np.uint8)
+    hole = np.zeros((h, w), bool)
+    hole[18:30, 22:34] = True
+    rgb[hole] = 20  # the dark blob
+    seen = np.zeros((h, w), bool)
+    seen[14:34, 18:28] = True  # the photos saw the left half, and the band beside it
+    photo = np.where(seen[..., None], np.array([150, 110, 90], np.uint8), 0).astype(np.uint8)  # a distinct colour
+    removed, holes = RemovedLayout(tmp_path / "removed"), HolesLayout(tmp_path / "holes")
+    write_png(removed.images / "v.png", rgb)
+    write_depth(removed.depth / "v.exr", np.full((h, w), 4.0, np.float32))
+    write_png(holes.mask("v.png"), hole.astype(np.uint8) * 255)
+    write_png(holes.photo("v.png"), photo)
+    write_png(holes.photo_seen("v.png"), seen.astype(np.uint8) * 255)
+    fill, _, pasted = inpaint_mask(holes, "v.png", 2, photos=True)
+    grown = dilate(hole, 2)
+    assert (pasted == grown & seen).all() and (fill == grown & ~seen).all()
+    assert (inpaint_mask(holes, "v.png", 2, photos=False)[0] == grown).all()
+    fills = {}
+    for photos in (True, False):
+        out = InpaintedLayout(tmp_path / f"photos{photos}")
+        _fill_hole(create("telea"), 2, None, rgb, camera, None, removed, holes, out, photos=photos)
+        fills[photos] = read_png(out.images / "v.png").astype(int)
+    assert (fills[True][pasted] == [150, 110, 90]).all()
+    assert (fills[True][~grown] == rgb[~grown]).all()
+    assert np.abs(fills[False][pasted] - [150, 110, 90]).max() > 20  # telea fills from the grey around
