@@ -35,8 +35,8 @@ Then the band around each hole that the render gets wrong, as the training photo
 width): the inpainters read their colours from the hole's border, so a wrong border is filled rather than copied
 inwards, and a right one stays as their context. Optional: a margin around each view's object mask that hides
 too, and dilation of the result (LaMa wants larger masks; the paper dilates). Measured choices in
-docs/BENCHMARKS.md. Beside each mask go the training photos' colours of its pixels (and a band around it) that some
-photo saw, which `inpaint` pastes rather than invents (engine.edit.photo_fill).
+docs/BENCHMARKS.md. With --photo-band, beside each mask go the training photos' colours of its pixels (and a band
+around it) that some photo saw, which `inpaint` pastes rather than invents (engine.edit.photo_fill; off by default).
 """
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
 from engine.edit.border import BORDER_LEVELS, BORDER_SHARE, OCCLUDER_SHARE, band_px, photo_ranges, wrong_border
-from engine.edit.photo_fill import PHOTO_SHARE, photo_view
+from engine.edit.photo_fill import photo_view
 from engine.edit.removal import RemovalConfig
 from engine.edit.support_plane import (
     Footprint,
@@ -96,8 +96,10 @@ class HoleConfig:
     off_support_tol: float = 0.02  # with see_through, also pixels whose support is this far off its plane, x depth
     border: float = BORDER_SHARE  # also the band this wide (x image width) around a hole that the photos contradict
     border_levels: float = BORDER_LEVELS  # 8-bit levels a band pixel may differ from the photos' colour there
-    photo_band: float = PHOTO_SHARE  # the photos' colour for the seen pixels this far around a hole (x image width),
-    # which `inpaint` pastes rather than invents (engine.edit.photo_fill); 0: none, the inpainters fill every pixel
+    photo_band: float = 0.0  # the photos' colour for the seen pixels this far around a hole (x image width; PHOTO_SHARE
+    # to try), which `inpaint` pastes rather than invents (engine.edit.photo_fill); off: on the default-path scene
+    # (livingroom seed 11, 96 px) it pasted shadow and object fragments, 18.7 levels off the truth where the removed
+    # render was 12.2, and the default fill fell from 31.71 to 24.03 dB m-PSNR (unfilled 30.22)
     device: str = "auto"  # where every pixel is tested against every training view (engine.io.visibility)
 
 

@@ -16,6 +16,11 @@ object region grown by engine.edit.border.OCCLUDER_SHARE, whose edge blends into
 the object's shadow in that photo (removed/effects: the shadow went with the object, the photos still show it); the
 median of those photos per channel, so that one photo's misregistered edge does not decide. `inpaint` pastes those
 colours and gives its inpainter the rest (`invented`).
+
+Off by default (`holes --photo-band PHOTO_SHARE` turns it on): on the default path's own scene (livingroom seed 11,
+96 px, 16 views) the photos' colours in the pasted pixels were 18.7 levels off the truth on the mean where the removed
+render was 12.2 (the surface point misplaced by a coarse depth; the object's edge and shadow outside the identity
+render's region), and the default fill fell from 31.71 to 24.03 dB m-PSNR against 30.22 unfilled.
 """
 
 from __future__ import annotations
