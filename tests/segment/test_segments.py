@@ -325,6 +325,25 @@ def test_the_plate_a_figure_stands_on_goes_with_it_and_the_pedestal_stays():
         why, taken)
 
 
+def test_a_plaque_many_voxels_wide_goes_whole_with_its_head_and_the_picture_beside_it_stays():
+    """wallmount_s5 at f1affc9 (300,000 Gaussians, so the voxel is 0.02 R, not the tiny run's spacing): the subject
+    was the head alone, IoU 0.47. Growing six steps of a voxel reached six voxels; here the plaque's salient
+    Gaussians, in the wall's band (not free), reach 15 voxels beyond the head. They go whole; a salient picture two
+    voxels across the bare wall stays."""
+    rng = np.random.default_rng(0)
+    voxel, up = 0.01, np.array([0.0, 0.0, 1.0])
+    head = rng.uniform([-0.05, 0.005, 0.1], [0.05, 0.1, 0.2], (4000, 3))
+    plaque = rng.uniform([-0.2, 0.0, 0.0], [0.2, 0.005, 0.3], (12000, 3))  # on the wall (y = 0), in its band
+    picture = rng.uniform([0.22, 0.0, 0.0], [0.4, 0.005, 0.3], (8000, 3))  # 2 voxels of bare wall from the plaque
+    means = np.concatenate([head, plaque, picture])
+    part = np.repeat(np.arange(3), [4000, 12000, 8000])
+    colours = np.where((part == 0)[:, None], [0.6, 0.4, 0.4], [0.5, 0.3, 0.1])
+    every, free = np.ones(len(means), bool), part == 0
+    chosen, why = subject(np.ones(len(means)), means, colours, every, free, every, up, voxel, 0.5)
+    taken = [chosen[part == k].mean() for k in range(3)]  # head, plaque, picture
+    assert taken == [1.0, 1.0, 0.0], (why, taken)  # six steps of a voxel: the plaque 0.32
+
+
 def test_a_noisy_table_top_is_peeled_off_the_objects_on_it():
     """A tiny CPU run left its table top a slab of Gaussians up to 3 plane bands thick, which joined the plush
     and the table into one piece wider than the orbit (scenery): peeling wider bands splits the objects off,
