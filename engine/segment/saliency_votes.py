@@ -120,15 +120,12 @@ def grow(means: np.ndarray, seeds: np.ndarray, allowed: np.ndarray, reach: float
     was measured already."""
     chosen = np.zeros(len(means), bool)
     chosen[seeds] = True
-    frontier = seeds
+    frontier, todo = seeds, np.flatnonzero(allowed & ~chosen)
     for _ in range(steps):
-        if not len(frontier):
+        if not len(frontier) or not len(todo):
             break
-        todo = np.flatnonzero(allowed & ~chosen)
-        if not len(todo):
-            break
-        distance = knn(torch.as_tensor(means[todo]), torch.as_tensor(means[frontier]), 1)[0][:, 0].numpy()
-        frontier = todo[distance <= reach]
+        reached = knn(torch.as_tensor(means[todo]), torch.as_tensor(means[frontier]), 1)[0][:, 0].numpy() <= reach
+        frontier, todo = todo[reached], todo[~reached]
         chosen[frontier] = True
     return chosen
 
