@@ -35,8 +35,7 @@ Then the band around each hole that the render gets wrong, as the training photo
 width): the inpainters read their colours from the hole's border, so a wrong border is filled rather than copied
 inwards, and a right one stays as their context. Optional: a margin around each view's object mask that hides
 too, and dilation of the result (LaMa wants larger masks; the paper dilates). Measured choices in
-docs/BENCHMARKS.md. With --photo-band, beside each mask go the training photos' colours of its pixels (and a band
-around it) that some photo saw, which `inpaint` pastes rather than invents (engine.edit.photo_fill; off by default).
+docs/BENCHMARKS.md.
 """
 
 from __future__ import annotations
@@ -54,7 +53,6 @@ from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
 from engine.edit.border import BORDER_LEVELS, BORDER_SHARE, OCCLUDER_SHARE, band_px, photo_ranges, wrong_border
-from engine.edit.photo_fill import photo_view
 from engine.edit.removal import RemovalConfig
 from engine.edit.support_plane import (
     Footprint,
@@ -96,10 +94,6 @@ class HoleConfig:
     off_support_tol: float = 0.02  # with see_through, also pixels whose support is this far off its plane, x depth
     border: float = BORDER_SHARE  # also the band this wide (x image width) around a hole that the photos contradict
     border_levels: float = BORDER_LEVELS  # 8-bit levels a band pixel may differ from the photos' colour there
-    photo_band: float = 0.0  # the photos' colour for the seen pixels this far around a hole (x image width; PHOTO_SHARE
-    # to try), which `inpaint` pastes rather than invents (engine.edit.photo_fill); off: on the default-path scene
-    # (livingroom seed 11, 96 px) it pasted shadow and object fragments, 18.7 levels off the truth where the removed
-    # render was 12.2, and the default fill fell from 31.71 to 24.03 dB m-PSNR (unfilled 30.22)
     device: str = "auto"  # where every pixel is tested against every training view (engine.io.visibility)
 
 
@@ -115,13 +109,6 @@ def _under_object(camera: Camera, stopped: np.ndarray, depth: np.ndarray, camera
     out = np.zeros_like(stopped)
     out[ys, xs] = inside_visual_hull(points, cameras, masks, share=HULL_SHARE, device=device)
     return out
-
-
-def _effects(removed: RemovedLayout, camera: Camera) -> np.ndarray:
-    """(H, W) bool: what `remove` relit in this view (the object's shadow; none where it wrote no mask)."""
-    path = removed.effects.mask(camera.name)
-    return (read_png(path, "mask", camera.size) > 0 if path.is_file()
-            else np.zeros((camera.height, camera.width), bool))
 
 
 def iou(a: np.ndarray, b: np.ndarray) -> float:
@@ -173,9 +160,6 @@ def run_holes(config: HoleConfig) -> dict:
               for low, high in photo_ranges([scene.images[i] for i in scene.train])]
     photo_occluders = [as_tensor(dilate(regions[i], band_px(scene.cameras[i].width, OCCLUDER_SHARE)), device)
                        for i in scene.train]
-    shadowed = [occluder | as_tensor(_effects(removed, scene.cameras[i]), device)  # the photos show the shadow
-                for occluder, i in zip(photo_occluders, scene.train, strict=True)]
-    train_photos = [as_tensor(scene.images[i], device) for i in scene.train]
     views, sheet = [], []
     with atomic_output_dir(out) as tmp_root:
         tmp = HolesLayout(tmp_root)
@@ -202,16 +186,8 @@ def run_holes(config: HoleConfig) -> dict:
                 hole = hole | border
             write_png(tmp.mask(camera.name), hole.astype(np.uint8) * 255)
             write_png(tmp.unseen(camera.name), unseen_hole.astype(np.uint8) * 255)
-            seen = np.zeros_like(hole)
-            if config.photo_band > 0 and hole.any():
-                zone = dilate(hole, band_px(camera.width, config.photo_band)) & ~unseen_hole
-                photo, seen = photo_view(camera, zone, background, train_cameras, train_photos, seen_surfaces,
-                                         shadowed, config.rel_tol, near, device)
-                write_png(tmp.photo(camera.name), photo)
-                write_png(tmp.photo_seen(camera.name), seen.astype(np.uint8) * 255)
             record = {"view": camera.name, "region_px": int(region.sum()), "hole_px": int(hole.sum()),
-                      "see_through_px": int((see_through & ~unseen).sum()), "border_px": int(border.sum()),
-                      "photo_px": int((seen & hole).sum())}
+                      "see_through_px": int((see_through & ~unseen).sum()), "border_px": int(border.sum())}
             if i in scene.holes:
                 record["iou_vs_truth"] = iou(hole, scene.holes[i])
                 record["unseen_iou_vs_truth"] = iou(unseen_hole, scene.holes[i])

@@ -11,7 +11,7 @@ A run folder (`python -m engine train`), and what each later stage adds to it:
     config.json checkpoints/ point_cloud.ply classifier.npz objects.json metrics.json    train
     segments/  ids.npy masks/ objects.json segments.json (objects without ground truth)    segment
     removed/   point_cloud.ply images/ depth/ masks/ removal.json sheet.png              remove
-    holes/     <view>.png (255 = hole) unseen/ photo/ photo_seen/ holes.json sheet.png        holes
+    holes/     <view>.png (255 = hole) holes.json sheet.png                               holes
     inpainted/<inpainter>/ and inpainted/direct-<inpainter>/                              inpaint
                images/ depth/ config.json sheet_test.png sheet_train.png
     complete/<Method name>/  scene/ (a scene folder) run/ (a run folder) renders/ scores.json   complete
@@ -151,15 +151,6 @@ class HolesLayout(_MaskFolder):
         """The mask's unseen part alone (what no training view saw), without the see-through marks: the
         part the truth's holes/ score, kept so a wrong mask can be taken apart afterwards."""
         return self.root / "unseen" / view
-
-    def photo(self, view: str) -> Path:
-        """The training photos' colour of the pixels in and around the hole that some photo saw
-        (engine.edit.photo_fill): pasted by `inpaint`, not invented."""
-        return self.root / "photo" / view
-
-    def photo_seen(self, view: str) -> Path:
-        """Where `photo` holds a colour (255 = some training photo saw the surface point there)."""
-        return self.root / "photo_seen" / view
 
 
 @dataclass(frozen=True)

@@ -7,9 +7,7 @@ by GROW_SHARE of the image's width unless --dilate gives the pixels: a render bl
 or two beside it, and an inpainter fills from them (the paper dilates as well). The border that is wrong further
 out (a remnant's edge, the contact shade relit in part) `holes` already took into the masks where the photos
 contradict it (engine.edit.border); growing every hole by 4% of the width, as before, also replaced the right
-border an inpainter reads (docs/BENCHMARKS.md, "Hole masks"). Of the grown masks, the pixels some training photo
-saw take the photos' colour that `holes` wrote (holes/photo, engine.edit.photo_fill) and the inpainter invents
-only the rest; --no-photos gives it all. With --shield, what stands on the support within that
+border an inpainter reads (docs/BENCHMARKS.md, "Hole masks"). With --shield, what stands on the support within that
 share of the width of the hole (another object, a remnant) is no source, since an inpainter runs its colour into
 the fill; off by default, since on the eight tuning scenes it moved Ref-telea by -0.94 to +0.19 dB (mean -0.06). With
 source "input" (the direct baseline, RUN/inpainted/direct-<inpainter>) the object's whole region is filled in the
@@ -38,7 +36,6 @@ from engine.base.errors import InputError
 from engine.base.output_dir import atomic_output_dir
 from engine.base.progress import Progress, emit
 from engine.edit.holes import iou
-from engine.edit.photo_fill import invented
 from engine.edit.support_plane import removal_plane, standing_on, stop_at_plane
 from engine.formats.cameras import Camera
 from engine.formats.layout import HolesLayout, InpaintedLayout, RemovedLayout, RunLayout
@@ -104,8 +101,6 @@ class InpaintConfig:
     workers: int = 0  # views inpainted at once (0: the cores, up to 8, where the inpainter allows it; else 1)
     parallel: str = ""  # threads | processes: how views go at once ("": the inpainter's Inpainter.parallel_views)
     keep: float = 0.0  # keep the removed render where its colour is within this many ring deviations (0: fill all)
-    photos: bool = True  # paste the training photos' colours where `holes` found some photo saw (holes/photo/)
-    # and invent only the rest (engine.edit.photo_fill); off: the inpainter fills every pixel of the grown masks
     shield: float = 0.0  # share of the image width: what stands on the support this near the hole is no source
     # (0.05 measured on the eight tuning scenes, H200 x2: Ref-telea -0.06 dB on the mean, so off)
 
@@ -148,7 +143,7 @@ def run_inpaint(config: InpaintConfig) -> dict:
     with atomic_output_dir(out) as tmp_root:
         tmp = InpaintedLayout(tmp_root)
         job = _ViewJob(inpainter, grow, prompt, direct, plane, removed, holes, tmp, config.keep,
-                       share_px(config.shield, scene.cameras), config.photos)
+                       share_px(config.shield, scene.cameras))
         views = [(scene.images[i], scene.cameras[i]) for i in range(len(scene.cameras))]
         progress = Progress(f"inpaint {config.inpainter}", len(scene.cameras))
         for done, (i, row) in enumerate(_each_view(job, views, workers, parallel), start=1):
@@ -162,31 +157,19 @@ def run_inpaint(config: InpaintConfig) -> dict:
         report = {"config": dataclasses.asdict(config), "dilate_px": grow, "prompt": prompt,
                   "views": len(scene.cameras), "inpaint_seconds": round(seconds, 2), "workers": workers,
                   "parallel": parallel,
-                  "hole_iou_as_inpainted": None if direct else inpainted_hole_iou(scene, holes, grow, config.photos),
-                  "hole_iou_grown": None if direct else inpainted_hole_iou(scene, holes, grow, photos=False)}
+                  "hole_iou_as_inpainted": None if direct else inpainted_hole_iou(scene, holes, grow)}
         tmp.config_json.write_text(json.dumps(report, indent=1))
     emit("done", stage="inpaint", out=str(out), seconds=report["inpaint_seconds"])
     return report
 
 
-def inpainted_hole_iou(scene, holes: HolesLayout, dilation: int, photos: bool = True) -> dict:
+def inpainted_hole_iou(scene, holes: HolesLayout, dilation: int) -> dict:
     """IoU against the scene's true holes (holes/, where it has them: every view of a generated scene rendered with
-    --gt all, training views too) of the masks this stage's inpainter filled, its own dilation included and the
-    pixels it took from the photos (`photos`) left out: what was invented, not what `holes` wrote."""
-    scores = [iou(inpaint_mask(holes, scene.cameras[i].name, dilation, photos)[0], truth)
+    --gt all, training views too) of the masks this stage filled, its own dilation included: what the inpainters
+    and the completions that train on their fill were given, not what `holes` wrote."""
+    scores = [iou(dilate(read_png(holes.mask(scene.cameras[i].name), kind="mask") > 0, dilation), truth)
               for i, truth in sorted(scene.holes.items())]
     return mean_and_worst(scores)
-
-
-def inpaint_mask(holes: HolesLayout, name: str, dilation: int, photos: bool = True
-                 ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
-    """One view's pixels to invent (its hole grown by `dilation`, less those a photo saw), and the photos' colours
-    with where they hold one (None, None without `photos` or where `holes` wrote none for the view)."""
-    hole = dilate(read_png(holes.mask(name), kind="mask") > 0, dilation)
-    if not photos or not holes.photo_seen(name).is_file():
-        return hole, None, None
-    seen = hole & (read_png(holes.photo_seen(name), kind="mask") > 0)
-    return invented(hole, seen), read_png(holes.photo(name)), seen
 
 
 def _workers(config: InpaintConfig, inpainter) -> tuple[int, str]:
@@ -218,13 +201,12 @@ class _ViewJob:
     out: InpaintedLayout
     keep: float = 0.0
     shield: int = 0
-    photos: bool = True
 
     def __call__(self, image: np.ndarray, camera: Camera) -> np.ndarray | None:
         """Fill one view and write it under `out`; its contact sheet row, or None if it has no hole."""
         if not self.direct:
             return _fill_hole(self.inpainter, self.dilate, self.prompt, image, camera, self.plane, self.removed,
-                              self.holes, self.out, self.keep, self.shield, self.photos)
+                              self.holes, self.out, self.keep, self.shield)
         # the direct baseline: the object painted out of the input image (its region), RGB only
         uses_mask = self.inpainter.uses_mask
         region = dilate(_direct_region(self.removed, camera.name), self.dilate) if uses_mask else None
@@ -308,7 +290,7 @@ def _direct_region(removed: RemovedLayout, name: str) -> np.ndarray:
 
 def _fill_hole(inpainter, dilation: int, prompt: str | None, image: np.ndarray, camera: Camera,
                plane: tuple[np.ndarray, float] | None, removed: RemovedLayout, holes: HolesLayout,
-               out: InpaintedLayout, keep: float = 0.0, shield: int = 0, photos: bool = True) -> np.ndarray | None:
+               out: InpaintedLayout, keep: float = 0.0, shield: int = 0) -> np.ndarray | None:
     """Inpaint one view's hole in the removed render, RGB and depth; its sheet row, or None if no hole.
     With `keep` above 0 the render stays (colour and depth) where it already looks like the hole's surroundings
     (engine.inpaint.keep); the sheet's hole shows what was filled.
@@ -320,19 +302,14 @@ def _fill_hole(inpainter, dilation: int, prompt: str | None, image: np.ndarray, 
     With `shield` (px) what stands on that plane within it of the hole (another object beside the removed one, a
     remnant on its edge: engine.edit.support_plane.standing_on) is filled with the hole and then put back, so the
     inpainter reads the hole's colours from the support alone: an inpainter fills from the hole's border, and an
-    orange beside the removed object ran into the livingroom_s100 fill as orange streaks (2f7158c).
-
-    With `photos`, the hole's pixels some training photo saw take the photos' colour (holes/photo,
-    engine.edit.photo_fill) and keep the render's depth, before the inpainter fills the rest from a border
-    that is now what the photos showed."""
+    orange beside the removed object ran into the livingroom_s100 fill as orange streaks (2f7158c)."""
     name = camera.name
-    render = read_png(removed.images / name)
+    rgb = read_png(removed.images / name)
     depth = read_depth(removed.depth / exr_name(name))
-    fill, photo, seen = inpaint_mask(holes, name, dilation, photos)
-    hole, rgb = (fill, render) if seen is None else (fill | seen, np.where(seen[..., None], photo, render))
+    hole = dilate(read_png(holes.mask(name), kind="mask") > 0, dilation)
     shielded = _shielded(camera, hole, depth, plane, shield)
-    filled = inpainter.inpaint(rgb, fill | shielded, "rgb", prompt)
-    filled_depth = inpainter.inpaint(depth, fill | shielded, "depth", prompt)
+    filled = inpainter.inpaint(rgb, hole | shielded, "rgb", prompt)
+    filled_depth = inpainter.inpaint(depth, hole | shielded, "depth", prompt)
     filled[shielded], filled_depth[shielded] = rgb[shielded], depth[shielded]
     if plane is not None and hole.any():
         filled_depth = stop_at_plane(camera, hole, filled_depth, plane, 0.0)
@@ -341,7 +318,7 @@ def _fill_hole(inpainter, dilation: int, prompt: str | None, image: np.ndarray, 
         filled, filled_depth = np.where(kept[..., None], rgb, filled), np.where(kept, depth, filled_depth)
     write_png(out.images / name, filled)
     write_depth(out.depth / exr_name(name), filled_depth)
-    return _sheet_row(image, render, fill & ~kept, filled, filled_depth, name) if hole.any() else None
+    return _sheet_row(image, rgb, hole & ~kept, filled, filled_depth, name) if hole.any() else None
 
 
 def _shielded(camera: Camera, hole: np.ndarray, depth: np.ndarray, plane: tuple[np.ndarray, float] | None,
