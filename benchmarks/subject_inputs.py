@@ -42,7 +42,7 @@ def main() -> int:
     solid = opacity >= config.solid
     supports = subject_supports(supports, means, solid, votes, frame, config)
     chosen, why = subject(votes, means, colours, solid, supports.free, supports.near, frame.up, voxel,
-                          config.min_vote, config.stack_gap)
+                          config.min_vote, config.stack_gap, config.grow_vote)
     np.savez_compressed(args.out, means=means.astype(np.float32), opacity=opacity.astype(np.float16),
                         colours=colours.astype(np.float16), votes=votes.astype(np.float16),
                         seen=seen.astype(np.uint8), free=supports.free, near=supports.near, solid=solid,

@@ -344,6 +344,27 @@ def test_a_plaque_many_voxels_wide_goes_whole_with_its_head_and_the_picture_besi
     assert taken == [1.0, 1.0, 0.0], (why, taken)  # six steps of a voxel: the plaque 0.32
 
 
+def test_a_plaque_the_salient_maps_light_faintly_goes_with_its_head_and_the_bare_wall_stays():
+    """wallmount_s5 at 7cf9ed7: the plaque's wood voted salient in 0.2-0.4 of the views seeing it, its head in 0.8
+    and more, and the growth crossed only Gaussians voting min_vote (0.5): the head alone, IoU 0.47. The growth
+    needs GROW_VOTE of them; the bare wall around (0.05) and a picture beyond it stay."""
+    rng = np.random.default_rng(1)
+    voxel, up = 0.01, np.array([0.0, 0.0, 1.0])
+    head = rng.uniform([-0.05, 0.005, 0.1], [0.05, 0.1, 0.2], (4000, 3))
+    plaque = rng.uniform([-0.15, 0.0, 0.0], [0.15, 0.005, 0.3], (9000, 3))  # on the wall (y = 0), in its band
+    wall = np.c_[rng.uniform(-0.6, 0.6, 30000), rng.uniform(0.0, 0.005, 30000), rng.uniform(-0.3, 0.6, 30000)]
+    wall = wall[(np.abs(wall[:, 0]) > 0.16) | (wall[:, 2] < -0.01) | (wall[:, 2] > 0.31)]  # around the plaque
+    picture = rng.uniform([0.3, 0.006, 0.0], [0.5, 0.01, 0.3], (6000, 3))  # on the wall, salient
+    means = np.concatenate([head, plaque, wall, picture])
+    part = np.repeat(np.arange(4), [4000, 9000, len(wall), 6000])
+    votes = np.array([0.9, 0.3, 0.05, 0.9])[part]
+    colours = np.where((part == 0)[:, None], [0.6, 0.4, 0.4], [0.5, 0.3, 0.1])
+    every, free = np.ones(len(means), bool), part == 0
+    chosen, why = subject(votes, means, colours, every, free, every, up, voxel, 0.5)
+    taken = [round(float(chosen[part == k].mean()), 3) for k in range(4)]  # head, plaque, wall, picture
+    assert taken == [1.0, 1.0, 0.0, 0.0], (why, taken)  # over min_vote only: the plaque 0.0
+
+
 def test_a_noisy_table_top_is_peeled_off_the_objects_on_it():
     """A tiny CPU run left its table top a slab of Gaussians up to 3 plane bands thick, which joined the plush
     and the table into one piece wider than the orbit (scenery): peeling wider bands splits the objects off,
