@@ -22,7 +22,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from benchmarks.records import run_study_args  # noqa: E402
 from engine.base.device import pick_device  # noqa: E402
-from engine.geometry.scene_geometry import camera_frame, find_supports  # noqa: E402
+from engine.geometry.scene_geometry import camera_frame, find_supports, level_band  # noqa: E402
 from engine.segment.proposals import propose  # noqa: E402
 from engine.segment.run import SegmentConfig, subject_evidence, subject_supports  # noqa: E402
 from engine.segment.saliency_votes import subject  # noqa: E402
@@ -41,11 +41,12 @@ def main() -> int:
     votes, seen, colours, voxel = subject_evidence(run, frame, config, stats, device)
     solid = opacity >= config.solid
     supports = subject_supports(supports, means, solid, votes, frame, config)
+    level = level_band(means, supports.planes, config.plane_tol * frame.radius)
     chosen, why = subject(votes, means, colours, solid, supports.free, supports.near, frame.up, voxel,
-                          config.min_vote, config.stack_gap, config.grow_vote)
+                          config.min_vote, config.stack_gap, config.grow_vote, level)
     np.savez_compressed(args.out, means=means.astype(np.float32), opacity=opacity.astype(np.float16),
                         colours=colours.astype(np.float16), votes=votes.astype(np.float16),
-                        seen=seen.astype(np.uint8), free=supports.free, near=supports.near, solid=solid,
+                        seen=seen.astype(np.uint8), free=supports.free, near=supports.near, solid=solid, level=level,
                         up=np.asarray(frame.up, np.float64), voxel=np.float64(voxel), min_vote=config.min_vote,
                         ids=ids.astype(np.uint8), chosen=chosen)
     print(args.out, why, "chosen", int(chosen.sum()), "of", len(means))

@@ -11,7 +11,7 @@ A run folder (`python -m engine train`), and what each later stage adds to it:
     config.json checkpoints/ point_cloud.ply classifier.npz objects.json metrics.json    train
     segments/  ids.npy masks/ objects.json segments.json (objects without ground truth)    segment
     removed/   point_cloud.ply images/ depth/ masks/ removal.json sheet.png              remove
-    holes/     <view>.png (255 = hole) holes.json sheet.png                               holes
+    holes/     <view>.png (255 = hole) unseen/ holes.json sheet.png                       holes
     inpainted/<inpainter>/ and inpainted/direct-<inpainter>/                              inpaint
                images/ depth/ config.json sheet_test.png sheet_train.png
     complete/<Method name>/  scene/ (a scene folder) run/ (a run folder) renders/ scores.json   complete

@@ -110,7 +110,7 @@ def find_supports(means: np.ndarray, opacity: np.ndarray, frame: Frame, config: 
     near = horizontal <= config.orbit * r
     solid = near & (opacity >= config.solid)
     planes = support_planes(means[solid], frame.up, tol, config.plane_share, config.plane_radius * r)
-    on_level = (np.abs(plane_heights(means, planes)) < tol).any(1)
+    on_level = level_band(means, planes, tol)
     walls = tilted_planes(means[solid & ~on_level], frame.up, tol, config.plane_share, config.plane_radius * r)
     planes = [plane for plane in planes if not strip_of_walls(means[solid], plane, walls, tol)]
     return Supports(planes, walls, near, free_of(means, near, planes, walls, tol))
@@ -158,6 +158,11 @@ def strip_of_walls(points: np.ndarray, plane: tuple[np.ndarray, float], walls: l
 def plane_heights(points: np.ndarray, planes: list[tuple[np.ndarray, float]]) -> np.ndarray:
     """(N, P) each point's signed height above each plane (normals point up)."""
     return np.stack([points @ n + d for n, d in planes], axis=1) if planes else np.zeros((len(points), 0))
+
+
+def level_band(points: np.ndarray, planes: list[tuple[np.ndarray, float]], tol: float) -> np.ndarray:
+    """(N,) bool: the points within `tol` of any of the level `planes` (a floor's or a table's band)."""
+    return (np.abs(plane_heights(points, planes)) < tol).any(1)
 
 
 def spacing(points: np.ndarray, sample: int = 2000) -> float:

@@ -49,6 +49,7 @@ from engine.geometry.scene_geometry import (
     Supports,
     camera_frame,
     find_supports,
+    level_band,
     unsliced,
 )
 from engine.io.extent import bounding_box, inside_box
@@ -290,7 +291,8 @@ def _salient_subject(run, ids: np.ndarray, opacity: np.ndarray, frame: Frame, su
     means, solid = run.gaussians["means"].numpy(), opacity >= config.solid
     unsliced_supports = subject_supports(supports, means, solid, votes, frame, config)
     chosen, why = subject(votes, means, colours, solid, unsliced_supports.free, supports.near, frame.up, voxel,
-                          config.min_vote, config.stack_gap, config.grow_vote)
+                          config.min_vote, config.stack_gap, config.grow_vote,
+                          level_band(means, unsliced_supports.planes, config.plane_tol * frame.radius))
     why["walls_through_the_subject"] = len(supports.walls) - len(unsliced_supports.walls)
     if not chosen.any():
         return ids, None, why
