@@ -29,7 +29,9 @@
 #                                  at 557c660, neither rule kept, so off unless asked)                  ("Real captures")
 #   inpaint PHOTOS [VIEWS]         benchmarks/inpaint_speed.py: seconds per 1 MP view, every offline inpainter ("Inpainting")
 #   subject SCENE...               train, segment --auto (scored by benchmarks/segments.py), remove object_1, holes:
-#                                  the subject found and removed without masks                  ("Objects without masks")
+#                                  the subject found and removed without masks, and what it was chosen from
+#                                  (benchmarks/subject_inputs.py: an npz that collect brings back for
+#                                  benchmarks/subject_sweep.py here)                            ("Objects without masks")
 #   trained SCENE...               `engine train` at the defaults with TRAIN_FLAGS added, each scene's metrics.json
 #                                  (test PSNR, seconds) named by the flags: a training setting judged   ("Training")
 #   subject-inputs PHOTOS...       the README's capture, train (TRAIN_FLAGS added) and segment --auto on real photos,
@@ -155,6 +157,7 @@ case $name in
   subject) for s in "$@"; do S=$(scene $s) R=$G/subject/$s D=$(out subject); rm -rf $R
              { python3 -m engine train --scene $S --out $R --device cuda && python3 -m engine segment --run $R --auto &&
                python3 benchmarks/segments.py --run $R --results $D --from-run &&
+               python3 benchmarks/subject_inputs.py $R $D/${s}_inputs.npz --device cuda &&
                python3 -m engine remove --run $R --object object_1 &&
                python3 -m engine holes --run $R; } > $G/subject_$s.log 2>&1 || { tail -5 $G/subject_$s.log; continue; }
              cp $R/removed/removal.json $D/${s}_removal.json; cp $R/holes/holes.json $D/${s}_holes.json
