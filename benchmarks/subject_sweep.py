@@ -20,6 +20,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from engine.capture.scene import load_scene  # noqa: E402
+from engine.edit.holes import iou  # noqa: E402
 from engine.formats.cameras import project, sample_nearest  # noqa: E402
 from engine.segment.saliency_votes import subject  # noqa: E402
 
@@ -42,10 +43,6 @@ def truth_by_object(scene_dir: str, means: np.ndarray) -> tuple[dict[str, np.nda
             count += visible & (ids == object_id)
     return ({o.name: (seen >= MIN_VIEWS) & (shown[o.id] > 0.5 * np.maximum(seen, 1)) for o in scene.objects},
             scene.target.name)
-
-
-def iou(a: np.ndarray, b: np.ndarray) -> float:
-    return float((a & b).sum() / max((a | b).sum(), 1))
 
 
 def main(args: list[str]) -> None:

@@ -167,9 +167,14 @@ def inpainted_hole_iou(scene, holes: HolesLayout, dilation: int) -> dict:
     """IoU against the scene's true holes (holes/, where it has them: every view of a generated scene rendered with
     --gt all, training views too) of the masks this stage filled, its own dilation included: what the inpainters
     and the completions that train on their fill were given, not what `holes` wrote."""
-    scores = [iou(dilate(read_png(holes.mask(scene.cameras[i].name), kind="mask") > 0, dilation), truth)
+    scores = [iou(grown_hole(holes, scene.cameras[i].name, dilation), truth)
               for i, truth in sorted(scene.holes.items())]
     return mean_and_worst(scores)
+
+
+def grown_hole(holes: HolesLayout, name: str, dilation: int) -> np.ndarray:
+    """(H, W) bool: one view's hole as `holes` wrote it, grown by `dilation` px: the pixels this stage fills."""
+    return dilate(read_png(holes.mask(name), kind="mask") > 0, dilation)
 
 
 def _workers(config: InpaintConfig, inpainter) -> tuple[int, str]:
@@ -306,7 +311,7 @@ def _fill_hole(inpainter, dilation: int, prompt: str | None, image: np.ndarray, 
     name = camera.name
     rgb = read_png(removed.images / name)
     depth = read_depth(removed.depth / exr_name(name))
-    hole = dilate(read_png(holes.mask(name), kind="mask") > 0, dilation)
+    hole = grown_hole(holes, name, dilation)
     shielded = _shielded(camera, hole, depth, plane, shield)
     filled = inpainter.inpaint(rgb, hole | shielded, "rgb", prompt)
     filled_depth = inpainter.inpaint(depth, hole | shielded, "depth", prompt)

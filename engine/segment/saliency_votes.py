@@ -108,8 +108,9 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
     part = merge_stacked(means[salient], voxel_of, label, up, stack_gap * voxel)[voxel_of]
     members = salient[part == np.bincount(part).argmax()]
     cut = pedestal_cut(means[members], colours[members], up, voxel)
-    off_level = np.ones(len(means), bool) if level is None else ~level
-    rest = near & off_level & (votes >= min(grow_vote, min_vote))
+    rest = near & (votes >= min(grow_vote, min_vote))
+    if level is not None:
+        rest &= ~level
     if cut is not None:
         height = means @ up
         upper = height[members] >= cut
