@@ -325,6 +325,24 @@ def test_the_plate_a_figure_stands_on_goes_with_it_and_the_pedestal_stays():
         why, taken)
 
 
+def test_a_toy_whose_body_has_few_opaque_gaussians_keeps_its_tracks():
+    """tabletop_s5 at 748ee7a (300,000 Gaussians, mostly faint): the toy's tracks were opaque and its body above them
+    held few opaque Gaussians, so the salient opaque piece the subject starts from had a footprint below three times
+    that above, and the tracks were cut off as a pedestal (IoU 0.47, 0.87 with them). The pedestal is measured on
+    the whole piece the growth reaches, faint Gaussians too: the tracks are as wide as the body, and stay with it."""
+    rng = np.random.default_rng(0)
+    voxel, up = 0.05, np.array([0.0, 0.0, 1.0])
+    tracks = rng.uniform([-0.35, -0.3, 0.0], [0.35, 0.3, 0.25], (6000, 3))
+    body = rng.uniform([-0.3, -0.25, 0.25], [0.3, 0.25, 0.6], (6000, 3))
+    means = np.concatenate([tracks, body])
+    colours = np.repeat([[0.35, 0.33, 0.32], [0.8, 0.65, 0.3]], 6000, axis=0)  # grey tracks, a yellow body
+    solid = np.r_[np.ones(6000, bool), np.zeros(6000, bool)]
+    solid[6000:] = (np.abs(body[:, :2]) < 0.05).all(1)  # the body opaque only in a narrow core (its cab)
+    every = np.ones(len(means), bool)
+    chosen, why = subject(np.ones(len(means)), means, colours, solid, every, every, up, voxel, 0.5)
+    assert not why["pedestal"] and chosen.all(), (why, chosen[:6000].mean(), chosen[6000:].mean())
+
+
 def test_a_plaque_many_voxels_wide_goes_whole_with_its_head_and_the_picture_beside_it_stays():
     """wallmount_s5 at f1affc9 (300,000 Gaussians, so the voxel is 0.02 R, not the tiny run's spacing): the subject
     was the head alone, IoU 0.47. Growing six steps of a voxel reached six voxels; here the plaque's salient
