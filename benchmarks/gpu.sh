@@ -24,7 +24,8 @@
 #   removal SCENE                  benchmarks/removal_sweep.py: thresholds and hole-mask settings     ("Removal")
 #   segments SCENE...              a 100k-budget training each, then benchmarks/segments.py    ("Objects without masks")
 #   capture PHOTOS...              benchmarks/capture_path.py: the README's "Your own capture" on real photos, timed, and
-#                                  its pictures; with FLOATERS=1 then benchmarks/floaters.py on its trained run (what
+#                                  its pictures, then what its subject was chosen from (subject_inputs.py, timed after
+#                                  the rest: the statue's base plate stayed at 748ee7a, to study here); with FLOATERS=1 then benchmarks/floaters.py on its trained run (what
 #                                  covers its worst test views; the PSNRs without each candidate rule's Gaussians: judged
 #                                  at 557c660, neither rule kept, so off unless asked)                  ("Real captures")
 #   inpaint PHOTOS [VIEWS]         benchmarks/inpaint_speed.py: seconds per 1 MP view, every offline inpainter ("Inpainting")
@@ -152,7 +153,9 @@ case $name in
   judge) judge "$@";;
   inpaint) python3 benchmarks/inpaint_speed.py $1 $(out inpaint) ${2:-16};;
   capture) for p in "$@"; do n=$(basename $(dirname $p)); [ "$(basename $p)" = images ] || n=$(basename $p)
-             rm -rf $G/cap/$n; python3 benchmarks/capture_path.py $p $G/cap/$n $(out capture) && { [ "$FLOATERS" != 1 ] ||
+             rm -rf $G/cap/$n; python3 benchmarks/capture_path.py $p $G/cap/$n $(out capture) &&
+               python3 benchmarks/subject_inputs.py $G/cap/$n/run $(out capture)/${n}_subject_inputs.npz --device cuda &&
+               { [ "$FLOATERS" != 1 ] ||
              python3 benchmarks/floaters.py $G/cap/$n/run $(out capture)/${n}_floaters.json --device cuda | tail -n 14; }; done;;
   subject) for s in "$@"; do S=$(scene $s) R=$G/subject/$s D=$(out subject); rm -rf $R
              { python3 -m engine train --scene $S --out $R --device cuda && python3 -m engine segment --run $R --auto &&
