@@ -24,10 +24,11 @@
 #   removal SCENE                  benchmarks/removal_sweep.py: thresholds and hole-mask settings     ("Removal")
 #   segments SCENE...              a 100k-budget training each, then benchmarks/segments.py    ("Objects without masks")
 #   capture PHOTOS...              benchmarks/capture_path.py: the README's "Your own capture" on real photos, timed, and
-#                                  its pictures, then what its subject was chosen from (subject_inputs.py, timed after
-#                                  the rest: the statue's base plate stayed at 748ee7a, to study here); with FLOATERS=1 then benchmarks/floaters.py on its trained run (what
-#                                  covers its worst test views; the PSNRs without each candidate rule's Gaussians: judged
-#                                  at 557c660, neither rule kept, so off unless asked)                  ("Real captures")
+#                                  its pictures, then what its subject was chosen from (subject_inputs.py, after the
+#                                  timed path: the statue's base plate stayed at 748ee7a, to study here); with
+#                                  FLOATERS=1 then benchmarks/floaters.py on its trained run (what covers its worst
+#                                  test views; the PSNRs without each candidate rule's Gaussians: judged at 557c660,
+#                                  neither rule kept, so off unless asked)                              ("Real captures")
 #   inpaint PHOTOS [VIEWS]         benchmarks/inpaint_speed.py: seconds per 1 MP view, every offline inpainter ("Inpainting")
 #   subject SCENE...               train, segment --auto (scored by benchmarks/segments.py), remove object_1, holes:
 #                                  the subject found and removed without masks, and what it was chosen from

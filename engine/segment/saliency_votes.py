@@ -84,24 +84,24 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
             near: np.ndarray, up: np.ndarray, voxel: float, min_vote: float,
             stack_gap: float = ProposalConfig.stack_gap, grow_vote: float = GROW_VOTE,
             level: np.ndarray | None = None) -> tuple[np.ndarray, dict]:
-    """(N,) bool: the Gaussians of the object the capture is about, and what was found. The salient Gaussians
-    the geometry leaves free (off every support plane, engine.segment.proposals.find_supports), their largest
-    connected piece (pieces stacked on one another within `stack_gap` voxels joined, as the proposals join them:
-    one statue capture's figure came apart at the waist, and its legs went with the boulder while the upper body
-    stayed) less a pedestal it stands on (`pedestal_cut`, measured on all the piece the growth reaches, faint
-    Gaussians too: tabletop_s5's toy body held few opaque ones above its opaque tracks, and measured on the opaque
-    alone the tracks were cut off as a pedestal, IoU 0.47 against 0.87), then grown in steps of `STEP` voxels over the salient
-    Gaussians touching it, faint ones and those within a wall's band too (`grow`, at most `GROW` steps): a plaque
-    mounted flat on a wall lies in the wall's band. Never into the `level` supports' bands (a floor's, a table's): a
-    salient sheet or mat the object stands on went with it (the tiny tabletop run: 458 of the mat's Gaussians for
-    84 of the toy's, IoU 0.13 against 0.43 without), and the ground at a figure's foot did (tiny statue 0.48 against
-    0.58); the object's own foot within the band (3% of the tiny statue's) is left to `remove`'s hull. The growth
-    needs less of the votes than the piece it starts from (`grow_vote`, as a hysteresis threshold does): the salient
-    maps light a mounted head far more than the plaque behind it, and the bare wall around both hardly at all.
-    A picture on the same wall votes as salient as the plaque; the wall between them does not, and a step
-    no longer than a voxel does not cross it. Under a pedestal's cut the growth reaches `BASE_DEPTH` voxels, over
-    Gaussians nearer the subject's colour than the pedestal's only: the cut is a whole voxel slice, and a base plate
-    thinner than one shares the pedestal's top slice."""
+    """(N,) bool: the Gaussians of the object the capture is about, and what was found. The salient Gaussians the
+    geometry leaves free (off every support plane, engine.segment.proposals.find_supports), their largest connected
+    piece (pieces stacked on one another within `stack_gap` voxels joined, as the proposals join them: one statue
+    capture's figure came apart at the waist, and its legs went with the boulder while the upper body stayed) less a
+    pedestal it stands on (`pedestal_cut`, measured on all the piece the growth reaches, faint Gaussians too:
+    tabletop_s5's toy body held few opaque ones above its opaque tracks, and measured on the opaque alone the tracks
+    were cut off as a pedestal, IoU 0.47 against 0.87), then grown in steps of `STEP` voxels over the salient Gaussians
+    touching it, faint ones and those within a wall's band too (`grow`, at most `GROW` steps): a plaque mounted flat on
+    a wall lies in the wall's band. Never into the `level` supports' bands (a floor's, a table's): a salient sheet or
+    mat the object stands on went with it (the tiny tabletop run: 458 of the mat's Gaussians for 84 of the toy's, IoU
+    0.13 against 0.43 without), and the ground at a figure's foot did (tiny statue 0.48 against 0.58); the object's own
+    foot within the band (3% of the tiny statue's) is left to `remove`'s hull. The growth needs less of the votes than
+    the piece it starts from (`grow_vote`, as a hysteresis threshold does): the salient maps light a mounted head far
+    more than the plaque behind it, and the bare wall around both hardly at all. A picture on the same wall votes as
+    salient as the plaque; the wall between them does not, and a step no longer than a voxel does not cross it. Under a
+    pedestal's cut the growth reaches `BASE_DEPTH` voxels, over Gaussians nearer the subject's colour than the
+    pedestal's only: the cut is a whole voxel slice, and a base plate thinner than one shares the pedestal's top slice.
+    """
     chosen = np.zeros(len(means), bool)
     salient = np.flatnonzero(free & solid & (votes >= min_vote))
     if len(salient) == 0:
