@@ -30,6 +30,8 @@ from engine.segment.proposals import merge_stacked
 MAX_VIEWS = 24  # views voting: evenly spread over the training views (u2netp: about 0.1-0.5 s a view on a CPU)
 PEDESTAL_FOOTPRINT = 3.0  # a pedestal's footprint is at least this many times its subject's
 PEDESTAL_COLOUR = 0.3  # ... and its mean colour at least this far from the subject's (RGB in [0, 1])
+PEDESTAL_CONFIRM = 2.5  # ... and, with the faint Gaussians the growth reaches, still this many times: a toy's tracks
+# 1.8 (tabletop_s5, 3.5 on its opaque Gaussians alone); the statue capture's boulder 4.6 on its opaque ones
 STEP = 1.0  # voxels a growth step reaches: a salient picture hung 1.7 voxels beside a plaque stays out
 GROW = 30  # growth steps at most: 0.6 R where the voxel is 0.02 R (300,000 Gaussians), what six steps of the
 # Gaussians' spacing reached on the tiny runs the rule was tuned on (0.097 R on the CPU wallmount)
@@ -88,20 +90,21 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
     geometry leaves free (off every support plane, engine.segment.proposals.find_supports), their largest connected
     piece (pieces stacked on one another within `stack_gap` voxels joined, as the proposals join them: one statue
     capture's figure came apart at the waist, and its legs went with the boulder while the upper body stayed) less a
-    pedestal it stands on (`pedestal_cut`, measured on all the piece the growth reaches, faint Gaussians too:
-    tabletop_s5's toy body held few opaque ones above its opaque tracks, and measured on the opaque alone the tracks
-    were cut off as a pedestal, IoU 0.47 against 0.87), then grown in steps of `STEP` voxels over the salient Gaussians
-    touching it, faint ones and those within a wall's band too (`grow`, at most `GROW` steps): a plaque mounted flat on
-    a wall lies in the wall's band. Never into the `level` supports' bands (a floor's, a table's): a salient sheet or
-    mat the object stands on went with it (the tiny tabletop run: 458 of the mat's Gaussians for 84 of the toy's, IoU
-    0.13 against 0.43 without), and the ground at a figure's foot did (tiny statue 0.48 against 0.58); the object's own
-    foot within the band (3% of the tiny statue's) is left to `remove`'s hull. The growth needs less of the votes than
-    the piece it starts from (`grow_vote`, as a hysteresis threshold does): the salient maps light a mounted head far
-    more than the plaque behind it, and the bare wall around both hardly at all. A picture on the same wall votes as
-    salient as the plaque; the wall between them does not, and a step no longer than a voxel does not cross it. Under a
-    pedestal's cut the growth reaches `BASE_DEPTH` voxels, over Gaussians nearer the subject's colour than the
-    pedestal's only: the cut is a whole voxel slice, and a base plate thinner than one shares the pedestal's top slice.
-    """
+    pedestal it stands on (`pedestal_cut` on the piece, kept where the whole piece the growth reaches, faint Gaussians
+    too, is still PEDESTAL_CONFIRM times wider below the cut than above: tabletop_s5's toy body held few opaque
+    Gaussians above its opaque tracks, whose footprint passed three times the body's (3.5), and the tracks were cut off,
+    IoU 0.47 against 0.87; with the body's faint Gaussians 1.8), then grown in steps of `STEP` voxels over the salient
+    Gaussians touching it, faint ones and those within a wall's band too (`grow`, at most `GROW` steps): a plaque
+    mounted flat on a wall lies in the wall's band. Never into the `level` supports' bands (a floor's, a table's): a
+    salient sheet or mat the object stands on went with it (the tiny tabletop run: 458 of the mat's Gaussians for 84 of
+    the toy's, IoU 0.13 against 0.43 without), and the ground at a figure's foot did (tiny statue 0.48 against 0.58);
+    the object's own foot within the band (3% of the tiny statue's) is left to `remove`'s hull. The growth needs less of
+    the votes than the piece it starts from (`grow_vote`, as a hysteresis threshold does): the salient maps light a
+    mounted head far more than the plaque behind it, and the bare wall around both hardly at all. A picture on the same
+    wall votes as salient as the plaque; the wall between them does not, and a step no longer than a voxel does not
+    cross it. Under a pedestal's cut the growth reaches `BASE_DEPTH` voxels, over Gaussians nearer the subject's colour
+    than the pedestal's only: the cut is a whole voxel slice, and a base plate thinner than one shares the pedestal's
+    top slice."""
     chosen = np.zeros(len(means), bool)
     salient = np.flatnonzero(free & solid & (votes >= min_vote))
     if len(salient) == 0:
@@ -112,8 +115,10 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
     rest = near & (votes >= min(grow_vote, min_vote))
     if level is not None:
         rest &= ~level
-    whole = grow(means, members, rest, STEP * voxel, GROW)
-    cut = pedestal_cut(means[whole], colours[whole], up, voxel)
+    cut = pedestal_cut(means[members], colours[members], up, voxel)
+    if cut is not None and footprint_ratio(means[grow(means, members, rest, STEP * voxel, GROW)], up, voxel,
+                                           cut) < PEDESTAL_CONFIRM:
+        cut = None  # the opaque piece's footprint said pedestal; the piece with its faint Gaussians does not
     if cut is not None:
         height = means @ up
         upper = height[members] >= cut
@@ -160,9 +165,7 @@ def pedestal_cut(points: np.ndarray, colours: np.ndarray, up: np.ndarray, voxel:
     capture: the boulder's cut has footprints 181 / 39 columns (4.6) and colours 0.45 apart at a fifth of the
     height; the skull's stem under its skull never passes 1.7 (so it stays with the skull). A toy's tracks are
     as wide as its body above them, and stay."""
-    height = points @ up
-    basis = np.linalg.svd(np.eye(3) - np.outer(up, up))[0][:, :2]
-    columns = np.floor(points @ basis / voxel).astype(np.int64)
+    height, columns = points @ up, voxel_columns(points, up, voxel)
     level = np.floor((height - height.min()) / voxel).astype(np.int64)
     top = int(level.max())
     for cut in range(2, top // 2 + 1):
@@ -173,6 +176,18 @@ def pedestal_cut(points: np.ndarray, colours: np.ndarray, up: np.ndarray, voxel:
         if wide >= PEDESTAL_FOOTPRINT * narrow and contrast >= PEDESTAL_COLOUR:
             return float(height.min() + cut * voxel)
     return None
+
+
+def voxel_columns(points: np.ndarray, up: np.ndarray, voxel: float) -> np.ndarray:
+    """(N, 2) int: each point's column of voxels standing along `up`."""
+    basis = np.linalg.svd(np.eye(3) - np.outer(up, up))[0][:, :2]
+    return np.floor(points @ basis / voxel).astype(np.int64)
+
+
+def footprint_ratio(points: np.ndarray, up: np.ndarray, voxel: float, cut: float) -> float:
+    """How many times more voxel columns `points` occupy below the height `cut` than above it."""
+    columns, below = voxel_columns(points, up, voxel), points @ up < cut
+    return len(np.unique(columns[below], axis=0)) / max(len(np.unique(columns[~below], axis=0)), 1)
 
 
 SHARE_RANGE = (0.02, 0.5)  # a subject outside this share of the scene's Gaussians is worth a second look

@@ -328,8 +328,8 @@ def test_the_plate_a_figure_stands_on_goes_with_it_and_the_pedestal_stays():
 def test_a_toy_whose_body_has_few_opaque_gaussians_keeps_its_tracks():
     """tabletop_s5 at 748ee7a (300,000 Gaussians, mostly faint): the toy's tracks were opaque and its body above them
     held few opaque Gaussians, so the salient opaque piece the subject starts from had a footprint below three times
-    that above, and the tracks were cut off as a pedestal (IoU 0.47, 0.87 with them). The pedestal is measured on
-    the whole piece the growth reaches, faint Gaussians too: the tracks are as wide as the body, and stay with it."""
+    that above, and the tracks were cut off as a pedestal (IoU 0.47, 0.87 with them). The cut must hold on the whole
+    piece the growth reaches, faint Gaussians too: the tracks are as wide as the body, and stay with it."""
     rng = np.random.default_rng(0)
     voxel, up = 0.05, np.array([0.0, 0.0, 1.0])
     tracks = rng.uniform([-0.35, -0.3, 0.0], [0.35, 0.3, 0.25], (6000, 3))
