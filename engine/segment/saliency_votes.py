@@ -170,10 +170,8 @@ def pedestal_cut(points: np.ndarray, colours: np.ndarray, up: np.ndarray, voxel:
     top = int(level.max())
     for cut in range(2, top // 2 + 1):
         below = level < cut
-        wide = len(np.unique(columns[below], axis=0))
-        narrow = len(np.unique(columns[~below], axis=0))
         contrast = float(np.linalg.norm(colours[below].mean(0) - colours[~below].mean(0)))
-        if wide >= PEDESTAL_FOOTPRINT * narrow and contrast >= PEDESTAL_COLOUR:
+        if _column_ratio(columns, below) >= PEDESTAL_FOOTPRINT and contrast >= PEDESTAL_COLOUR:
             return float(height.min() + cut * voxel)
     return None
 
@@ -186,7 +184,11 @@ def voxel_columns(points: np.ndarray, up: np.ndarray, voxel: float) -> np.ndarra
 
 def footprint_ratio(points: np.ndarray, up: np.ndarray, voxel: float, cut: float) -> float:
     """How many times more voxel columns `points` occupy below the height `cut` than above it."""
-    columns, below = voxel_columns(points, up, voxel), points @ up < cut
+    return _column_ratio(voxel_columns(points, up, voxel), points @ up < cut)
+
+
+def _column_ratio(columns: np.ndarray, below: np.ndarray) -> float:
+    """How many times more distinct `columns` (N, 2) the points `below` occupy than the rest (at least one)."""
     return len(np.unique(columns[below], axis=0)) / max(len(np.unique(columns[~below], axis=0)), 1)
 
 
