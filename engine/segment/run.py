@@ -292,7 +292,7 @@ def _salient_subject(run, ids: np.ndarray, opacity: np.ndarray, frame: Frame, su
     unsliced_supports = subject_supports(supports, means, solid, votes, frame, config)
     chosen, why = subject(votes, means, colours, solid, unsliced_supports.free, supports.near, frame.up, voxel,
                           config.min_vote, config.stack_gap, config.grow_vote,
-                          level_band(means, unsliced_supports.planes, config.plane_tol * frame.radius))
+                          subject_level(means, unsliced_supports, frame, config))
     why["walls_through_the_subject"] = len(supports.walls) - len(unsliced_supports.walls)
     if not chosen.any():
         return ids, None, why
@@ -307,6 +307,11 @@ def subject_supports(supports: Supports, means: np.ndarray, solid: np.ndarray, v
     """The supports the subject stands free of: those found, less the walls that slice the salient Gaussians
     (engine.geometry.scene_geometry.unsliced: a thin figure is no wall)."""
     return unsliced(supports, means, solid, votes >= config.min_vote, config.plane_tol * frame.radius)
+
+
+def subject_level(means: np.ndarray, supports: Supports, frame: Frame, config: SegmentConfig) -> np.ndarray:
+    """(N,) bool: the level supports' bands, which the subject's growth never enters (saliency_votes.subject)."""
+    return level_band(means, supports.planes, config.plane_tol * frame.radius)
 
 
 def subject_evidence(run, frame: Frame, config: SegmentConfig, stats: dict, device: torch.device
