@@ -46,7 +46,8 @@
 #                                  ARGS added), then their tables merged into $OUT/heldout/       ("Held-out table")
 #   start NAME [ARGS]              any of the above detached (for runs past one call's 10 minutes); its records go
 #                                  to /tmp/gpu/out/NAME, its log to /tmp/gpu/NAME.log
-#   wait SECONDS                   until the detached runs end or SECONDS pass
+#   wait SECONDS                   until the detached runs end or SECONDS pass; when they have, `collect` too (one
+#                                  session lost every record twice: the machine went before the call after `wait`)
 #   collect                        the detached runs' records (JSON, CSV, Markdown, text, pictures as JPEGs) as one file,
 #                                  $OUT/records.tgz, to fetch at once, and their npz arrays beside it (seven at most)
 #   save-build                     gsplat's built extension into $OUT/gsplat_build.tgz (send it back as .gsplat_build/)
@@ -211,7 +212,9 @@ case $name in
   wait) end=$(( $(date +%s) + ${1:-540} ))
         running() { for f in $G/*.pid; do [ -f "$f" ] && kill -0 $(cat $f) 2> /dev/null && return 0; done; return 1; }
         while running && [ $(date +%s) -lt $end ]; do sleep 10; done
-        running && echo "still running" || echo "all ended"; tail -n 3 $G/*.log 2>/dev/null;;
+        # once all ended, collect in the same call: a machine lost before the next call (30 s idle) loses nothing
+        if running; then echo "still running"; tail -n 3 $G/*.log 2>/dev/null; else echo "all ended"
+          tail -n 3 $G/*.log 2>/dev/null; bash "$0" collect; fi;;
   collect) python3 benchmarks/records.py shrink $G/out  # pictures as JPEGs at most 1600 px wide: a call returns little
            (cd $G/out && find . -type f \( -name '*.json' -o -name '*.csv' -o -name '*.md' -o -name '*.txt' -o -name '*.png' \
              -o -name '*.jpg' \) -size -4M | tar czf $OUT/records.tgz -T -) && tar tzf $OUT/records.tgz | head -40
