@@ -212,9 +212,8 @@ case $name in
   wait) end=$(( $(date +%s) + ${1:-540} ))
         running() { for f in $G/*.pid; do [ -f "$f" ] && kill -0 $(cat $f) 2> /dev/null && return 0; done; return 1; }
         while running && [ $(date +%s) -lt $end ]; do sleep 10; done
-        # once all ended, collect in the same call: a machine lost before the next call (30 s idle) loses nothing
-        if running; then echo "still running"; tail -n 3 $G/*.log 2>/dev/null; else echo "all ended"
-          tail -n 3 $G/*.log 2>/dev/null; bash "$0" collect; fi;;
+        running && echo "still running" || echo "all ended"; tail -n 3 $G/*.log 2>/dev/null
+        running || bash "$0" collect;;  # now: a machine lost before the next call (30 s idle) loses nothing
   collect) python3 benchmarks/records.py shrink $G/out  # pictures as JPEGs at most 1600 px wide: a call returns little
            (cd $G/out && find . -type f \( -name '*.json' -o -name '*.csv' -o -name '*.md' -o -name '*.txt' -o -name '*.png' \
              -o -name '*.jpg' \) -size -4M | tar czf $OUT/records.tgz -T -) && tar tzf $OUT/records.tgz | head -40
