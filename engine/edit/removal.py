@@ -6,7 +6,8 @@ swallow the table the object stands on; here the optional clean-up is the object
 scene's masks instead: a Gaussian goes when it projects into the object's mask (dilated by a few pixels)
 in nine in ten of the training views that have it in frame. A table Gaussian seen beside the object from
 its side stays; what only a few grazing views saw through a gap under the object (the dark cavity under a
-toy's body) goes with it. Then the pieces left loose where the object was (engine.edit.loose) go too.
+toy's body) goes with it. Then the pieces left loose where the object was (engine.edit.loose) go too, and
+the faint Gaussians that render only inside the object's region (engine.edit.faint: its translucent shell).
 
 The output folder (default RUN/removed) holds the remaining Gaussians as a standard PLY, renders of every
 view (images/, depth/), the object's mask per view (masks/, the region stage 3 looks for holes in),
@@ -51,6 +52,7 @@ from engine.edit.effects import (
     relight,
     residual_gain,
 )
+from engine.edit.faint import faint_inside
 from engine.edit.loose import loose_pieces
 from engine.edit.support_plane import Footprint, object_core, object_support
 from engine.edit.underside import Underside, find_unbuilt, find_underside, paint
@@ -89,6 +91,7 @@ class RemovalConfig:
     hull_dilate: int = 2  # px added around the masks for the hull test
     hull_share: float = 0.9  # share of the views framing a Gaussian whose mask it must fall in, for the hull
     loose: bool = True  # --object: also remove the pieces left loose where it was (engine.edit.loose)
+    faint: bool = True  # --object: also the faint Gaussians left that render only in its region (engine.edit.faint)
     effects: bool = True  # also undo the object's shadow and darkening (relight them), write removed/effects
     out: str = ""  # default RUN/removed
     scene: str = ""  # default: the scene named in the run's config.json
@@ -132,6 +135,17 @@ def other_objects(run: TrainedRun, remaining: Gaussians, target: int | None) -> 
     return ((label != 0) & (label != (-1 if target is None else target)) & (best > 0.5)).numpy()
 
 
+def _free(run: TrainedRun, removed: np.ndarray, target: int) -> np.ndarray:
+    """(N,) bool: the Gaussians off every support plane (a plane through the `removed` ones is no wall) and not
+    another object's: what the loose pieces and the faint ones may be taken from."""
+    means, frame = run.gaussians["means"].numpy(), camera_frame(run.scene.cameras)
+    opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
+    supports = find_supports(means, opacity, frame, ProposalConfig())
+    free = unsliced(supports, means, opacity >= ProposalConfig.solid, removed,
+                    ProposalConfig.plane_tol * frame.radius).free
+    return free & ~other_objects(run, run.gaussians, target)
+
+
 def keep(gaussians: Gaussians, removed: np.ndarray) -> Gaussians:
     index = torch.from_numpy(~removed)
     return {k: v[index] for k, v in gaussians.items()}
@@ -152,28 +166,31 @@ def run_removal(config: RemovalConfig) -> dict:
     obj = scene.object_by(config.object) if config.object else None
     up = mean_up(np.stack([c.R for c in scene.cameras]))
     core = object_core(keep(run.gaussians, ~removed), up)
-    if config.loose and obj is not None:  # a box removes exactly what it holds
-        means, frame = run.gaussians["means"].numpy(), camera_frame(scene.cameras)
-        opacity = torch.sigmoid(run.gaussians["opacities"]).numpy()
-        supports = find_supports(means, opacity, frame, ProposalConfig())
-        free = unsliced(supports, means, opacity >= ProposalConfig.solid, removed,  # a plane through it is no wall
-                        ProposalConfig.plane_tol * frame.radius).free
-        free &= ~other_objects(run, run.gaussians, obj.id)
-        loose = loose_pieces(means, removed, free, core, ProposalConfig.voxel * frame.radius)
+    # a box removes exactly what it holds
+    free = _free(run, removed, obj.id) if obj is not None and (config.loose or config.faint) else None
+    if config.loose and free is not None:
+        frame = camera_frame(scene.cameras)
+        loose = loose_pieces(run.gaussians["means"].numpy(), removed, free, core, ProposalConfig.voxel * frame.radius)
         counts["loose"] = int(loose.sum())
         removed |= loose
-    remaining, gone = keep(run.gaussians, removed), keep(run.gaussians, ~removed)
-    plane = object_support(remaining["means"].numpy(), core, up)
-    footprint = Footprint.of(core, up if plane is None else plane[0])
     # the object's region: the scene's masks, else the original's rendered labels; for a box, where
     # the removed Gaussians alone cover a pixel (renders only when the masks do not say)
     if obj is not None and scene.masks is not None:
         regions = [scene.masks[i] == obj.id for i in range(len(scene.cameras))]
     else:
-        source = run.gaussians if obj is not None else gone
+        source = run.gaussians if obj is not None else keep(run.gaussians, ~removed)
         regions = [_object_region(scene, i, obj, picture) for i, picture in
                    enumerate(render_pictures(source, scene.cameras, run.sh_degree, device, run.classifier,
                                                     depth=obj is None))]  # a box's region is its depth
+    if config.faint and free is not None:
+        views = scene.train
+        faint = faint_inside(run.gaussians, removed, free, [scene.cameras[i] for i in views],
+                             [dilate(regions[i], config.hull_dilate) for i in views], device)
+        counts["faint"] = int(faint.sum())
+        removed |= faint
+    remaining = keep(run.gaussians, removed)
+    plane = object_support(remaining["means"].numpy(), core, up)
+    footprint = Footprint.of(core, up if plane is None else plane[0])
     after = list(render_pictures(remaining, scene.cameras, run.sh_degree, device))
     effects, diffuse = None, 0
     if config.effects:
