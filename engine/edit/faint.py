@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 import torch
 
+from engine.base.progress import Progress
 from engine.formats.cameras import Camera
 from engine.io.gaussians import Gaussians
 from engine.render.rasterize import CameraTensors, default_backend, rasterize
@@ -38,13 +39,16 @@ def rendered_weights(gaussians: Gaussians, cameras: list[Camera], regions: list[
     backend = default_backend(device)
     inside = torch.zeros(len(on_device["means"]), device=device)
     total = torch.zeros_like(inside)
-    for camera, region in zip(cameras, regions, strict=True):
+    progress = Progress("removal: faint", len(cameras))
+    for k, (camera, region) in enumerate(zip(cameras, regions, strict=True)):
         feature = torch.zeros(len(inside), 2, device=device, requires_grad=True)
         blended = rasterize(on_device, feature, CameraTensors.from_camera(camera, device), backend, depth=False)[0]
         mask = torch.as_tensor(region, dtype=torch.float32, device=device)
         (grad,) = torch.autograd.grad((blended[..., 0] * mask).sum() + blended[..., 1].sum(), feature)
         inside += grad[:, 0]
         total += grad[:, 1]
+        progress.update(k + 1)
+    progress.close()
     return inside.cpu().numpy(), total.cpu().numpy()
 
 
