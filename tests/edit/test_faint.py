@@ -16,8 +16,8 @@ DEVICE = torch.device("cpu")
 
 def scene_with_shell():
     """The floor (opaque, kept), the box (removed), a faint shell over the box's top, a faint blob floating beside
-    the box and an opaque one inside the shell; (gaussians, removed, kinds) with kinds 0 floor, 1 box, 2 shell,
-    3 faint blob beside, 4 opaque inside."""
+    the box and an opaque one inside the shell; (gaussians, removed, kinds, the box's points) with kinds 0 floor,
+    1 box, 2 shell, 3 faint blob beside, 4 opaque inside."""
     floor, box, _ = floor_and_box()
     xs = np.arange(-0.1, 0.11, 0.05)
     shell = np.stack(np.meshgrid(xs, xs, indexing="ij"), -1).reshape(-1, 2)
@@ -48,8 +48,8 @@ def test_the_faint_shell_that_renders_only_where_the_box_stood_goes_and_the_rest
 
 
 def test_a_gaussians_weight_is_what_it_adds_to_the_pixels_inside_and_in_all():
-    """One opaque Gaussian alone, region the whole frame in one view and nothing in the other: its weight inside is
-    its weight in all in the first view, none in the second, and in all about its footprint's area times alpha."""
+    """One Gaussian alone, its region the whole frame in one view and nothing in the other: its weight inside is
+    the first view's alone, and in all twice that (the two views of the ring see it alike)."""
     one = gaussians(np.array([[0.0, 0.0, 0.3]]), np.full((1, 3), 0.5), opacity=0.5, scale=0.03)
     cameras = ring_of_cameras(2)
     full = np.ones((cameras[0].height, cameras[0].width), bool)
