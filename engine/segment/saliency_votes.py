@@ -16,6 +16,7 @@ alone take in the wallpaper behind a wall-mounted object.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -90,21 +91,21 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
     geometry leaves free (off every support plane, engine.segment.proposals.find_supports), their largest connected
     piece (pieces stacked on one another within `stack_gap` voxels joined, as the proposals join them: one statue
     capture's figure came apart at the waist, and its legs went with the boulder while the upper body stayed) less a
-    pedestal it stands on (`pedestal_cut` on the piece, kept where the whole piece the growth reaches, faint Gaussians
-    too, is still PEDESTAL_CONFIRM times wider below the cut than above: tabletop_s5's toy body held few opaque
-    Gaussians above its opaque tracks, whose footprint passed three times the body's (3.5), and the tracks were cut off,
-    IoU 0.47 against 0.87; with the body's faint Gaussians 1.8), then grown in steps of `STEP` voxels over the salient
-    Gaussians touching it, faint ones and those within a wall's band too (`grow`, at most `GROW` steps): a plaque
-    mounted flat on a wall lies in the wall's band. Never into the `level` supports' bands (a floor's, a table's): a
-    salient sheet or mat the object stands on went with it (the tiny tabletop run: 458 of the mat's Gaussians for 84 of
-    the toy's, IoU 0.13 against 0.43 without), and the ground at a figure's foot did (tiny statue 0.48 against 0.58);
-    the object's own foot within the band (3% of the tiny statue's) is left to `remove`'s hull. The growth needs less of
-    the votes than the piece it starts from (`grow_vote`, as a hysteresis threshold does): the salient maps light a
-    mounted head far more than the plaque behind it, and the bare wall around both hardly at all. A picture on the same
-    wall votes as salient as the plaque; the wall between them does not, and a step no longer than a voxel does not
-    cross it. Under a pedestal's cut the growth reaches `BASE_DEPTH` voxels, over Gaussians nearer the subject's colour
-    than the pedestal's only: the cut is a whole voxel slice, and a base plate thinner than one shares the pedestal's
-    top slice."""
+    pedestal it stands on (the lowest of `pedestal_cuts` on the piece where the whole piece the growth reaches, faint
+    Gaussians too, is still PEDESTAL_CONFIRM times wider below the cut than above: tabletop_s5's toy body held few
+    opaque Gaussians above its opaque tracks, whose footprint passed three times the body's (3.5), and the tracks
+    were cut off, IoU 0.47 against 0.87; with the body's faint Gaussians 1.8), then grown in steps of `STEP` voxels
+    over the salient Gaussians touching it, faint ones and those within a wall's band too (`grow`, at most `GROW`
+    steps): a plaque mounted flat on a wall lies in the wall's band. Never into the `level` supports' bands (a
+    floor's, a table's): a salient sheet or mat the object stands on went with it (the tiny tabletop run: 458 of the
+    mat's Gaussians for 84 of the toy's, IoU 0.13 against 0.43 without), and the ground at a figure's foot did (tiny
+    statue 0.48 against 0.58); the object's own foot within the band (3% of the tiny statue's) is left to `remove`'s
+    hull. The growth needs less of the votes than the piece it starts from (`grow_vote`, as a hysteresis threshold
+    does): the salient maps light a mounted head far more than the plaque behind it, and the bare wall around both
+    hardly at all. A picture on the same wall votes as salient as the plaque; the wall between them does not, and a
+    step no longer than a voxel does not cross it. Under a pedestal's cut the growth reaches `BASE_DEPTH` voxels,
+    over Gaussians nearer the subject's colour than the pedestal's only: the cut is a whole voxel slice, and a base
+    plate thinner than one shares the pedestal's top slice."""
     chosen = np.zeros(len(means), bool)
     salient = np.flatnonzero(free & solid & (votes >= min_vote))
     if len(salient) == 0:
@@ -115,10 +116,7 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
     rest = near & (votes >= min(grow_vote, min_vote))
     if level is not None:
         rest &= ~level
-    cut = pedestal_cut(means[members], colours[members], up, voxel)
-    if cut is not None and footprint_ratio(means[grow(means, members, rest, STEP * voxel, GROW)], up, voxel,
-                                           cut) < PEDESTAL_CONFIRM:
-        cut = None  # the opaque piece's footprint said pedestal; the piece with its faint Gaussians does not
+    cut = _confirmed_cut(means, colours, members, rest, up, voxel)
     if cut is not None:
         height = means @ up
         upper = height[members] >= cut
@@ -128,6 +126,19 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
     chosen = grow(means, members, rest, STEP * voxel, GROW)
     return chosen, {"subject": "votes", "vote": round(float(votes[chosen].mean()), 3),
                     "salient_pieces": int(len(np.unique(part))), "pedestal": cut is not None}
+
+
+def _confirmed_cut(means: np.ndarray, colours: np.ndarray, members: np.ndarray, rest: np.ndarray, up: np.ndarray,
+                   voxel: float) -> float | None:
+    """The lowest of the opaque piece's `pedestal_cuts` at which the whole piece the growth reaches (faint Gaussians
+    too) is still PEDESTAL_CONFIRM times wider below than above, or None; the growth only where a cut is tried."""
+    whole = None
+    for cut in pedestal_cuts(means[members], colours[members], up, voxel):
+        if whole is None:
+            whole = means[grow(means, members, rest, STEP * voxel, GROW)]
+        if footprint_ratio(whole, up, voxel, cut) >= PEDESTAL_CONFIRM:
+            return cut
+    return None
 
 
 def grow(means: np.ndarray, seeds: np.ndarray, allowed: np.ndarray, reach: float, steps: int) -> np.ndarray:
@@ -151,20 +162,22 @@ def grow(means: np.ndarray, seeds: np.ndarray, allowed: np.ndarray, reach: float
 
 
 def _subject_coloured(colours: np.ndarray, subject_mean: np.ndarray, pedestal_mean: np.ndarray) -> np.ndarray:
-    """(N,) bool: the colours nearer the subject's mean than its pedestal's (pedestal_cut sets them apart by at least
+    """(N,) bool: the colours nearer the subject's mean than its pedestal's (pedestal_cuts sets them apart by at least
     PEDESTAL_COLOUR)."""
     return np.linalg.norm(colours - subject_mean, axis=1) < np.linalg.norm(colours - pedestal_mean, axis=1)
 
 
-def pedestal_cut(points: np.ndarray, colours: np.ndarray, up: np.ndarray, voxel: float) -> float | None:
-    """The height where a salient piece's subject stands on a pedestal that is salient with it (a statue on
-    its boulder, voted one piece since every photo of the statue frames the boulder too), or None. Tried from
-    the bottom in slices of one voxel: the lowest cut below which the piece's footprint (its occupied voxel
+def pedestal_cuts(points: np.ndarray, colours: np.ndarray, up: np.ndarray, voxel: float) -> Iterator[float]:
+    """The heights where a salient piece's subject may stand on a pedestal that is salient with it (a statue on
+    its boulder, voted one piece since every photo of the statue frames the boulder too), lowest first. Tried
+    from the bottom in slices of one voxel: each cut below which the piece's footprint (its occupied voxel
     columns) is at least PEDESTAL_FOOTPRINT times that above, whose two sides differ in mean colour by at least
     PEDESTAL_COLOUR, with the lower side at most half the piece's height. Measured on the shared statue
     capture: the boulder's cut has footprints 181 / 39 columns (4.6) and colours 0.45 apart at a fifth of the
     height; the skull's stem under its skull never passes 1.7 (so it stays with the skull). A toy's tracks are
-    as wide as its body above them, and stay."""
+    as wide as its body above them, and stay. All of them, not the lowest alone: `subject` confirms each on the
+    grown piece, and the lowest may lie on the pedestal's rounded shoulder (the statue capture at e41a552: the
+    slice under the boulder's top passed at 3.5, its grown piece at 2.4, the next slice up 5.8)."""
     height, columns = points @ up, voxel_columns(points, up, voxel)
     level = np.floor((height - height.min()) / voxel).astype(np.int64)
     top = int(level.max())
@@ -172,8 +185,7 @@ def pedestal_cut(points: np.ndarray, colours: np.ndarray, up: np.ndarray, voxel:
         below = level < cut
         contrast = float(np.linalg.norm(colours[below].mean(0) - colours[~below].mean(0)))
         if _column_ratio(columns, below) >= PEDESTAL_FOOTPRINT and contrast >= PEDESTAL_COLOUR:
-            return float(height.min() + cut * voxel)
-    return None
+            yield float(height.min() + cut * voxel)
 
 
 def voxel_columns(points: np.ndarray, up: np.ndarray, voxel: float) -> np.ndarray:

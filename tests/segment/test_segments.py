@@ -343,6 +343,26 @@ def test_a_toy_whose_body_has_few_opaque_gaussians_keeps_its_tracks():
     assert not why["pedestal"] and chosen.all(), (why, chosen[:6000].mean(), chosen[6000:].mean())
 
 
+
+def test_a_pedestal_cut_through_its_rounded_shoulder_gives_way_to_the_slice_above():
+    """The statue capture at e41a552: the lowest slice that passed on the opaque piece lay in the boulder's rounded
+    top, whose faint Gaussians reach wider than its opaque core, so the grown piece there was 2.4 times wider below
+    than above (under 2.5), the cut was dropped, and the boulder went with the figure (38% of the scene). The slice
+    above the shoulder passes on both (4.4): the figure alone is the subject, the shoulder stays with the boulder."""
+    rng = np.random.default_rng(0)
+    voxel, up = 0.1, np.array([0.0, 0.0, 1.0])
+    boulder = rng.uniform([-1.5, -1.5, 0.0], [1.5, 1.5, 0.8], (40000, 3))
+    core = rng.uniform([-0.6, -0.6, 0.8], [0.6, 0.6, 0.9], (500, 3))  # the shoulder's opaque part
+    faint = rng.uniform([-1.2, -1.2, 0.8], [1.2, 1.2, 0.9], (3000, 3))  # ... and its faint, wider one
+    figure = rng.uniform([-0.25, -0.25, 0.9], [0.25, 0.25, 3.0], (6000, 3))
+    means = np.concatenate([boulder, core, faint, figure])
+    part = np.repeat(np.arange(4), [40000, 500, 3000, 6000])
+    colours = np.where((part == 3)[:, None], [0.1, 0.3, 0.2], [0.8, 0.5, 0.5])
+    every = np.ones(len(means), bool)
+    chosen, why = subject(np.ones(len(means)), means, colours, part != 2, every, every, up, voxel, 0.5)
+    taken = [chosen[part == k].mean() for k in range(4)]  # boulder, core, faint shoulder, figure
+    assert why["pedestal"] and taken == [0.0, 0.0, 0.0, 1.0], (why, taken)
+
 def test_a_plaque_many_voxels_wide_goes_whole_with_its_head_and_the_picture_beside_it_stays():
     """wallmount_s5 at f1affc9 (300,000 Gaussians, so the voxel is 0.02 R, not the tiny run's spacing): the subject
     was the head alone, IoU 0.47. Growing six steps of a voxel reached six voxels; here the plaque's salient
