@@ -177,7 +177,7 @@ def pedestal_cuts(points: np.ndarray, colours: np.ndarray, up: np.ndarray, voxel
     height; the skull's stem under its skull never passes 1.7 (so it stays with the skull). A toy's tracks are
     as wide as its body above them, and stay. All of them, not the lowest alone: `subject` confirms each on the
     grown piece, and the lowest may lie on the pedestal's rounded shoulder (the statue capture at e41a552: the
-    slice under the boulder's top passed at 3.5, its grown piece at 2.4, the next slice up 5.8)."""
+    slice under the boulder's top passed at 3.5, its grown piece at 2.4; the next slice up 5.8, grown 4.4)."""
     height, columns = points @ up, voxel_columns(points, up, voxel)
     level = np.floor((height - height.min()) / voxel).astype(np.int64)
     top = int(level.max())

@@ -343,7 +343,6 @@ def test_a_toy_whose_body_has_few_opaque_gaussians_keeps_its_tracks():
     assert not why["pedestal"] and chosen.all(), (why, chosen[:6000].mean(), chosen[6000:].mean())
 
 
-
 def test_a_pedestal_cut_through_its_rounded_shoulder_gives_way_to_the_slice_above():
     """The statue capture at e41a552: the lowest slice that passed on the opaque piece lay in the boulder's rounded
     top, whose faint Gaussians reach wider than its opaque core, so the grown piece there was 2.4 times wider below
@@ -362,6 +361,7 @@ def test_a_pedestal_cut_through_its_rounded_shoulder_gives_way_to_the_slice_abov
     chosen, why = subject(np.ones(len(means)), means, colours, part != 2, every, every, up, voxel, 0.5)
     taken = [chosen[part == k].mean() for k in range(4)]  # boulder, core, faint shoulder, figure
     assert why["pedestal"] and taken == [0.0, 0.0, 0.0, 1.0], (why, taken)
+
 
 def test_a_plaque_many_voxels_wide_goes_whole_with_its_head_and_the_picture_beside_it_stays():
     """wallmount_s5 at f1affc9 (300,000 Gaussians, so the voxel is 0.02 R, not the tiny run's spacing): the subject
