@@ -44,6 +44,9 @@
 #   matrix SCENE... [-- ARGS]      benchmarks/matrix.py's whole matrix (its own defaults, ARGS added)   ("Completion")
 #   heldout SCENE... [-- ARGS]     the held-out table: one matrix process per scene, two a GPU (HELDOUT_CELLS's cells,
 #                                  ARGS added), then their tables merged into $OUT/heldout/       ("Held-out table")
+#   seeds SCENE... [-- ARGS]       one scene's cells at several training seeds (SEEDS, default 0 1 2), one matrix process
+#                                  a (scene, seed), all at once (SEEDS_CELLS: Ref-coherence, the default): how far a
+#                                  scene's numbers move from run to run, with each run's sheets     ("Held-out table")
 #   start NAME [ARGS]              any of the above detached (for runs past one call's 10 minutes); its records go
 #                                  to /tmp/gpu/out/NAME, its log to /tmp/gpu/NAME.log
 #   wait SECONDS                   until the detached runs end or SECONDS pass; when they have, `collect` too (one
@@ -204,6 +207,22 @@ case $name in
            python3 benchmarks/heldout_wall.py $d/start.txt $G/heldout $GPUS > $d/wall.json
            python3 benchmarks/merge_tables.py $d $G/heldout/*/results.json &&
              python3 -m engine chart --spec $d/speed_accuracy.json --out $d/speed_accuracy.png; cat $d/wall.json;;
+  seeds) s=(); while [ $# -gt 0 ] && [ "$1" != -- ]; do s+=("$1"); shift; done; shift
+         d=$(out seeds); i=0
+         export OMP_NUM_THREADS=$(( $(nproc) / (${#s[@]} * $(echo ${SEEDS:-0 1 2} | wc -w)) > 0 ? $(nproc) / (${#s[@]} * $(echo ${SEEDS:-0 1 2} | wc -w)) : 1 ))
+         for n in "${s[@]}"; do for k in ${SEEDS:-0 1 2}; do  # (scene, seed) pairs spread over the GPUs, all at once
+           CUDA_VISIBLE_DEVICES=$(( i % GPUS )) python3 scripts/benchmark.py --scenes $(scene $n) --out $G/seeds/${n}_$k \
+             --device cuda --scheduler serial --seeds $k ${SEEDS_CELLS:---methods reference --inpainters coherence} "$@" \
+             > $G/seeds_${n}_$k.log 2>&1 < /dev/null &
+           i=$(( i + 1 )); done; done; wait
+         for n in "${s[@]}"; do for k in ${SEEDS:-0 1 2}; do m=${n}_seed$k w=$G/seeds/${n}_$k/work/$n/seed$k/run
+           tail -n 1 $G/seeds_${n}_$k.log; cp $G/seeds/${n}_$k/results.json $d/${m}_results.json
+           cp $G/seeds/${n}_$k/pictures/$n.png $d/${m}_views.png 2>/dev/null
+           for f in removed/sheet.png holes/sheet.png removed/removal.json holes/holes.json; do
+             cp $w/$f $d/${m}_$(echo $f | tr / _) 2>/dev/null; done
+           for f in $w/inpainted/*/sheet_test.png $w/complete/*/scores.json; do
+             [ -f $f ] && cp $f $d/${m}_$(basename $(dirname $f))_$(basename $f); done
+           cp $w/complete/*/scene/reference_fill.json $d/${m}_reference_fill.json 2>/dev/null; done; done;;
   start) tag=$(echo "$*" | tr -c 'A-Za-z0-9_' '_' | cut -c1-40)_$(echo "$* $TRAIN_FLAGS" | md5sum | cut -c1-6)  # one
          # log and pid a job, several at once: the hash of the arguments (and TRAIN_FLAGS) tells apart jobs whose
          # first 40 characters agree
