@@ -105,7 +105,9 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
     hardly at all. A picture on the same wall votes as salient as the plaque; the wall between them does not, and a
     step no longer than a voxel does not cross it. Under a pedestal's cut the growth reaches `BASE_DEPTH` voxels,
     over Gaussians nearer the subject's colour than the pedestal's only: the cut is a whole voxel slice, and a base
-    plate thinner than one shares the pedestal's top slice."""
+    plate thinner than one shares the pedestal's top slice. It also reaches down to the pedestal's top under the
+    subject's feet, while those slices have the subject's colour more than the pedestal top's (`_standing_under`: a
+    base taller than that, of a colour between the two)."""
     chosen = np.zeros(len(means), bool)
     salient = np.flatnonzero(free & solid & (votes >= min_vote))
     if len(salient) == 0:
@@ -121,7 +123,8 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
         height = means @ up
         upper = height[members] >= cut
         base = _subject_coloured(colours, colours[members[upper]].mean(0), colours[members[~upper]].mean(0))
-        rest &= (height >= cut) | (base & (height >= cut - BASE_DEPTH * voxel))
+        under = _standing_under(means, colours, members, up, voxel, cut)
+        rest &= (height >= cut) | (base & (height >= cut - BASE_DEPTH * voxel)) | under
         members = members[upper]
     chosen = grow(means, members, rest, STEP * voxel, GROW)
     return chosen, {"subject": "votes", "vote": round(float(votes[chosen].mean()), 3),
@@ -139,6 +142,61 @@ def _confirmed_cut(means: np.ndarray, colours: np.ndarray, members: np.ndarray, 
         if footprint_ratio(whole, up, voxel, cut) >= PEDESTAL_CONFIRM:
             return cut
     return None
+
+
+def _standing_under(means: np.ndarray, colours: np.ndarray, members: np.ndarray, up: np.ndarray, voxel: float,
+                    cut: float) -> np.ndarray:
+    """(N,) bool: the base a figure stands on, under the cut. Slice by slice down to the pedestal's top
+    (`pedestal_top`), the Gaussians under the subject's feet (`_under_feet`), as long as a slice's opaque ones (the
+    piece's `members`) are together nearer the subject's mean colour than the pedestal top's.
+
+    Why: the statue capture at 274f783 cut three slices above the boulder's top (the slices under the cut passed on
+    footprint, 3.6-7.2 times, not on colour, 0.25-0.30), and the colour rule's two slices, each Gaussian against the
+    whole boulder's mean, took half the bronze base, whose patina lies between the figure's colour and the boulder's:
+    the rest stayed on the boulder as a green ghost. A pedestal's own rounded top under the feet has its colour, and
+    stays."""
+    height = means @ up
+    top = pedestal_top(means[members], up, voxel, cut)
+    shoulder = members[(height[members] < top) & (height[members] >= top - BASE_DEPTH * voxel)]
+    band = _under_feet(means, members, up, voxel, cut, top)
+    under = np.zeros(len(means), bool)
+    if not len(band) or not len(shoulder):
+        return under
+    subject_mean, pedestal_mean = colours[members[height[members] >= cut]].mean(0), colours[shoulder].mean(0)
+    slice_of = np.floor((cut - height[band]) / voxel).astype(np.int64)
+    for k in range(int(slice_of.max()) + 1):
+        here = band[slice_of == k]
+        opaque = here[np.isin(here, members)]  # the faint ones' colours say little (here half again as light)
+        if len(opaque) and not _subject_coloured(colours[opaque].mean(0, keepdims=True), subject_mean,
+                                                 pedestal_mean)[0]:
+            break
+        under[here] = True
+    return under
+
+
+def _under_feet(means: np.ndarray, members: np.ndarray, up: np.ndarray, voxel: float, cut: float,
+                top: float) -> np.ndarray:
+    """Indices of the Gaussians between the heights `top` and `cut` that stand in the voxel columns of the piece's
+    lowest BASE_DEPTH slices above the cut, or one column beside them."""
+    height = means @ up
+    feet = members[(height[members] >= cut) & (height[members] < cut + BASE_DEPTH * voxel)]
+    band = np.flatnonzero((height >= top) & (height < cut))
+    if not len(band) or not len(feet):
+        return band[:0]
+    columns = voxel_columns(means[np.r_[feet, band]], up, voxel)
+    key = (columns[:, 0] << 32) + columns[:, 1]  # one integer a column
+    step = np.arange(-1, 2)
+    beside = np.unique(key[:len(feet), None] + ((step[:, None] << 32) + step).ravel())
+    return band[np.isin(key[len(feet):], beside)]
+
+
+def pedestal_top(points: np.ndarray, up: np.ndarray, voxel: float, cut: float) -> float:
+    """The lowest height, in whole voxels under `cut`, from which every cut up to `cut` passes the footprint test
+    (PEDESTAL_FOOTPRINT): where the pedestal's wide top ends and what stands on it begins."""
+    floor, lowest = cut, float((points @ up).min()) + 2 * voxel
+    while floor - voxel >= lowest - 1e-9 and footprint_ratio(points, up, voxel, floor - voxel) >= PEDESTAL_FOOTPRINT:
+        floor -= voxel
+    return floor
 
 
 def grow(means: np.ndarray, seeds: np.ndarray, allowed: np.ndarray, reach: float, steps: int) -> np.ndarray:

@@ -363,6 +363,31 @@ def test_a_pedestal_cut_through_its_rounded_shoulder_gives_way_to_the_slice_abov
     assert why["pedestal"] and taken == [0.0, 0.0, 0.0, 1.0], (why, taken)
 
 
+def test_a_figure_s_base_of_patina_goes_whole_down_to_the_boulder_and_the_boulder_s_top_stays():
+    """The statue capture at 274f783: the cut passed on footprint from the boulder's top up, but on colour only three
+    slices higher, since the bronze base's patina (half of it lighter than the figure) kept the two sides' means
+    close; the base's Gaussians under the cut went only where, each alone, they were nearer the figure's colour than
+    the whole boulder's, and the lighter half stayed on the boulder as a green ghost. Under the figure's feet, down to
+    the boulder's top, each slice goes while its Gaussians together have the figure's colour more than the boulder
+    top's: the whole base goes; the boulder's top around it, its colour, stays."""
+    rng = np.random.default_rng(0)
+    voxel, up = 0.1, np.array([0.0, 0.0, 1.0])
+    boulder = rng.uniform([-2.0, -2.0, 0.0], [2.0, 2.0, 0.8], (60000, 3))
+    top = rng.uniform([-0.9, -0.9, 0.8], [0.9, 0.9, 1.0], (80000, 3))
+    top = top[(np.abs(top[:, :2]) > 0.6).any(1)][:26000]  # the boulder's top around the base
+    base = rng.uniform([-0.35, -0.35, 0.8], [0.35, 0.35, 1.2], (3000, 3))
+    figure = rng.uniform([-0.25, -0.25, 1.2], [0.25, 0.25, 3.0], (6000, 3))
+    means = np.concatenate([boulder, top, base, figure])
+    part = np.repeat(np.arange(4), [len(boulder), len(top), len(base), len(figure)])
+    colours = np.array([[0.7, 0.6, 0.55], [0.7, 0.6, 0.55], [0.22, 0.25, 0.23], [0.15, 0.2, 0.18]])[part]
+    colours[(part == 2) & (rng.random(len(means)) < 0.5)] = [0.47, 0.52, 0.49]  # the patina's lighter half
+    colours += rng.normal(0, 0.05, colours.shape)
+    every = np.ones(len(means), bool)
+    chosen, why = subject(np.ones(len(means)), means, colours, every, every, every, up, voxel, 0.5)
+    taken = [float(chosen[part == k].mean()) for k in range(4)]  # boulder, its top, base, figure
+    assert why["pedestal"] and taken == [0.0, 0.0, 1.0, 1.0], (why, taken)  # before: the base 0.75
+
+
 def test_a_plaque_many_voxels_wide_goes_whole_with_its_head_and_the_picture_beside_it_stays():
     """wallmount_s5 at f1affc9 (300,000 Gaussians, so the voxel is 0.02 R, not the tiny run's spacing): the subject
     was the head alone, IoU 0.47. Growing six steps of a voxel reached six voxels; here the plaque's salient
