@@ -209,7 +209,8 @@ case $name in
              python3 -m engine chart --spec $d/speed_accuracy.json --out $d/speed_accuracy.png; cat $d/wall.json;;
   seeds) s=(); while [ $# -gt 0 ] && [ "$1" != -- ]; do s+=("$1"); shift; done; shift
          d=$(out seeds); i=0
-         export OMP_NUM_THREADS=$(( $(nproc) / (${#s[@]} * $(echo ${SEEDS:-0 1 2} | wc -w)) > 0 ? $(nproc) / (${#s[@]} * $(echo ${SEEDS:-0 1 2} | wc -w)) : 1 ))
+         pairs=$(( ${#s[@]} * $(echo ${SEEDS:-0 1 2} | wc -w) ))  # the cores shared out among them
+         export OMP_NUM_THREADS=$(( $(nproc) / pairs > 0 ? $(nproc) / pairs : 1 ))
          for n in "${s[@]}"; do for k in ${SEEDS:-0 1 2}; do  # (scene, seed) pairs spread over the GPUs, all at once
            CUDA_VISIBLE_DEVICES=$(( i % GPUS )) python3 scripts/benchmark.py --scenes $(scene $n) --out $G/seeds/${n}_$k \
              --device cuda --scheduler serial --seeds $k ${SEEDS_CELLS:---methods reference --inpainters coherence} "$@" \
