@@ -25,7 +25,7 @@ import torch
 from engine.base.knn import knn
 from engine.base.progress import Progress
 from engine.formats.cameras import Camera, project, sample_nearest
-from engine.geometry.scene_geometry import ProposalConfig, voxel_components
+from engine.geometry.scene_geometry import ProposalConfig, voxel_codes, voxel_components
 from engine.segment.proposals import merge_stacked
 
 MAX_VIEWS = 24  # views voting: evenly spread over the training views (u2netp: about 0.1-0.5 s a view on a CPU)
@@ -123,7 +123,7 @@ def subject(votes: np.ndarray, means: np.ndarray, colours: np.ndarray, solid: np
         height = means @ up
         upper = height[members] >= cut
         base = _subject_coloured(colours, colours[members[upper]].mean(0), colours[members[~upper]].mean(0))
-        under = _standing_under(means, colours, members, up, voxel, cut)
+        under = _standing_under(means, height, colours, members, up, voxel, cut)
         rest &= (height >= cut) | (base & (height >= cut - BASE_DEPTH * voxel)) | under
         members = members[upper]
     chosen = grow(means, members, rest, STEP * voxel, GROW)
@@ -144,8 +144,8 @@ def _confirmed_cut(means: np.ndarray, colours: np.ndarray, members: np.ndarray, 
     return None
 
 
-def _standing_under(means: np.ndarray, colours: np.ndarray, members: np.ndarray, up: np.ndarray, voxel: float,
-                    cut: float) -> np.ndarray:
+def _standing_under(means: np.ndarray, height: np.ndarray, colours: np.ndarray, members: np.ndarray, up: np.ndarray,
+                    voxel: float, cut: float) -> np.ndarray:
     """(N,) bool: the base a figure stands on, under the cut. Slice by slice down to the pedestal's top
     (`pedestal_top`), the Gaussians under the subject's feet (`_under_feet`), as long as a slice's opaque ones (the
     piece's `members`) are together nearer the subject's mean colour than the pedestal top's.
@@ -154,11 +154,10 @@ def _standing_under(means: np.ndarray, colours: np.ndarray, members: np.ndarray,
     footprint, 3.6-7.2 times, not on colour, 0.25-0.30), and the colour rule's two slices, each Gaussian against the
     whole boulder's mean, took half the bronze base, whose patina lies between the figure's colour and the boulder's:
     the rest stayed on the boulder as a green ghost. A pedestal's own rounded top under the feet has its colour, and
-    stays."""
-    height = means @ up
+    stays. `height`: `means` along `up`."""
     top = pedestal_top(means[members], up, voxel, cut)
     shoulder = members[(height[members] < top) & (height[members] >= top - BASE_DEPTH * voxel)]
-    band = _under_feet(means, members, up, voxel, cut, top)
+    band = _under_feet(means, height, members, up, voxel, cut, top)
     under = np.zeros(len(means), bool)
     if not len(band) or not len(shoulder):
         return under
@@ -174,27 +173,30 @@ def _standing_under(means: np.ndarray, colours: np.ndarray, members: np.ndarray,
     return under
 
 
-def _under_feet(means: np.ndarray, members: np.ndarray, up: np.ndarray, voxel: float, cut: float,
-                top: float) -> np.ndarray:
+def _under_feet(means: np.ndarray, height: np.ndarray, members: np.ndarray, up: np.ndarray, voxel: float,
+                cut: float, top: float) -> np.ndarray:
     """Indices of the Gaussians between the heights `top` and `cut` that stand in the voxel columns of the piece's
     lowest BASE_DEPTH slices above the cut, or one column beside them."""
-    height = means @ up
     feet = members[(height[members] >= cut) & (height[members] < cut + BASE_DEPTH * voxel)]
     band = np.flatnonzero((height >= top) & (height < cut))
     if not len(band) or not len(feet):
         return band[:0]
-    columns = voxel_columns(means[np.r_[feet, band]], up, voxel)
-    key = (columns[:, 0] << 32) + columns[:, 1]  # one integer a column
-    step = np.arange(-1, 2)
-    beside = np.unique(key[:len(feet), None] + ((step[:, None] << 32) + step).ravel())
-    return band[np.isin(key[len(feet):], beside)]
+    feet_columns = voxel_columns(means[feet], up, voxel)
+    beside = np.concatenate([feet_columns + (dx, dy) for dx in (-1, 0, 1) for dy in (-1, 0, 1)])
+    return band[np.isin(_column_codes(voxel_columns(means[band], up, voxel)), _column_codes(beside))]
+
+
+def _column_codes(columns: np.ndarray) -> np.ndarray:
+    """One integer a voxel column (N, 2), by the voxels' own codes (`voxel_codes`) at height 0."""
+    return voxel_codes(np.c_[columns, np.zeros(len(columns), columns.dtype)])
 
 
 def pedestal_top(points: np.ndarray, up: np.ndarray, voxel: float, cut: float) -> float:
     """The lowest height, in whole voxels under `cut`, from which every cut up to `cut` passes the footprint test
     (PEDESTAL_FOOTPRINT): where the pedestal's wide top ends and what stands on it begins."""
-    floor, lowest = cut, float((points @ up).min()) + 2 * voxel
-    while floor - voxel >= lowest - 1e-9 and footprint_ratio(points, up, voxel, floor - voxel) >= PEDESTAL_FOOTPRINT:
+    height, columns = points @ up, voxel_columns(points, up, voxel)
+    floor, lowest = cut, float(height.min()) + 2 * voxel
+    while floor - voxel >= lowest - 1e-9 and _column_ratio(columns, height < floor - voxel) >= PEDESTAL_FOOTPRINT:
         floor -= voxel
     return floor
 
