@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 import pytest
 import torch
 
 from engine.base.errors import InputError
 from engine.inpaint.registry import create, names
+from engine.inpaint.straight_edges import crossing_lines
 
 Y, X = np.mgrid[:72, :96]
 TEXTURE = np.stack([128 + 60 * np.sin(X / 9), 128 + 60 * np.cos(Y / 11), 100 + X + 0 * Y], -1).astype(np.uint8)
@@ -59,6 +61,44 @@ def test_coherence_carries_a_dark_band_across_the_hole_where_telea_breaks_it():
     assert coherence < 95 < telea
     everywhere = np.ones_like(MASK)  # nothing known to carry: the image as it was, not a crash
     assert (create("coherence").inpaint(image, everywhere) == image).all()
+
+
+def veined(rng: np.random.Generator, shape: tuple[int, int], angle: float) -> np.ndarray:
+    """Unit-variance noise stretched into veins at `angle` degrees (a marble's or a wood's grain)."""
+    h, w = shape
+    noise = cv2.GaussianBlur(rng.normal(0, 1, (2 * h, 2 * w)).astype(np.float32), (0, 0), sigmaX=12, sigmaY=1.5)
+    turned = cv2.warpAffine(noise, cv2.getRotationMatrix2D((w, h), angle, 1.0), (2 * w, 2 * h))
+    crop = turned[h // 2:h // 2 + h, w // 2:w // 2 + w]
+    return crop / crop.std()
+
+
+def test_coherence_draws_a_shadow_s_straight_edge_through_a_wide_hole_on_a_veined_surface():
+    """A shadow's straight edge at 20 degrees across an 80 x 60 px hole in a surface veined at 110 degrees: along
+    the veins the fill would carry the lit side into the shadow and bend the edge (measured: 10-11% of the hole's
+    pixels more than 4 px from the edge on the wrong side of mid-grey with the lines off, on four noise seeds;
+    none with them); drawn as a line seen on both sides of the hole, each side is filled from its own side."""
+    y, x = np.mgrid[:120, :160]
+    across = (x - 80) * np.sin(np.radians(20)) - (y - 64) * np.cos(np.radians(20))
+    image = np.where(across > 0, 80.0, 180.0) + 18 * veined(np.random.default_rng(0), (120, 160), 110)
+    image = np.repeat(np.clip(image, 0, 255)[..., None], 3, -1).astype(np.uint8)
+    hole = cv2.ellipse(np.zeros((120, 160), np.uint8), (80, 60), (40, 30), 0, 0, 360, 1, -1).astype(bool)
+    grey = create("coherence").inpaint(image, hole)[..., 0].astype(float)
+    dark, lit = hole & (across > 4), hole & (across < -4)
+    wrong_side = ((grey > 130) & dark).sum() / dark.sum() + ((grey < 130) & lit).sum() / lit.sum()
+    assert wrong_side < 0.02
+
+
+def test_a_grain_that_runs_straight_for_a_while_is_not_taken_for_an_edge():
+    """A grain alone, at four angles on twenty noise seeds, through the same hole: its veins run straight across
+    it often enough, but differ at one distance from the line and not at the next, where a step (a shadow's
+    edge) differs at all three (measured: 0 lines in 80 images; 88 read at 3 px alone)."""
+    hole = cv2.ellipse(np.zeros((120, 160), np.uint8), (80, 60), (40, 30), 0, 0, 360, 1, -1).astype(bool)
+    found = 0
+    for seed in range(20):
+        for angle in (0, 45, 90, 110):
+            grain = np.clip(150 + 30 * veined(np.random.default_rng(seed), (120, 160), angle), 0, 255) / 255
+            found += len(crossing_lines(np.where(hole, 0, grain).astype(np.float32), hole))
+    assert found <= 2
 
 
 def test_exemplar_fills_depth_on_one_channel_as_it_would_on_three_equal_ones():

@@ -17,6 +17,10 @@ before the fill: `_across_edges` says why the paper's tensor of the growing fill
 its coherence (0 where the neighbourhood has no one direction: there the weights are Telea-like 1/r and the fill is
 smooth). The published parameters (eps 5, kappa 25, sigma 1.4, rho 4). Where it loses: on a wall's fine vertical
 grain it carried a dark rim at the hole's border down the wall (Ref -1.64 dB against Telea on wallmount_s8, e541ab4).
+
+Where the hole is wide, the direction in it is a mean over the whole border, and a straight edge across it (a
+shadow's, on a veined slab) bends; so the straight edges seen entering and leaving the hole are drawn through it
+first (engine.inpaint.straight_edges), and each side of them is filled from its own side of the border only.
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ import numpy as np
 
 from engine.inpaint.coarse import grown_box
 from engine.inpaint.registry import Inpainter, register
+from engine.inpaint.straight_edges import crossing_lines, side_labels
 
 EPS = 5  # px: the neighbourhood a pixel is filled from
 KAPPA = 25.0  # how strongly the weights follow the edge direction where it is clear
@@ -72,35 +77,57 @@ def _across_edges(grey: np.ndarray, known: np.ndarray, reach: float) -> tuple[np
     return np.cos(theta), np.sin(theta), np.clip(coherence, 0.0, 1.0)
 
 
-def coherence_fill(image: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    """`image` (H, W, C) float32 with `mask` (H, W) filled by coherence transport (module docstring); a mask over
-    every pixel leaves nothing to carry, and the image is returned as it is."""
+def coherence_fill(image: np.ndarray, mask: np.ndarray, lines: bool = True) -> np.ndarray:
+    """`image` (H, W, C) float32 in 0-255 with `mask` (H, W) filled by coherence transport (module docstring); a
+    mask over every pixel leaves nothing to carry, and the image is returned as it is. With `lines`, the straight
+    edges that cross the hole (engine.inpaint.straight_edges) are drawn through it: each side of them is filled
+    from its own side of the border only, and what no side's border reaches from the whole border after."""
     known = ~mask
     if not known.any():
         return image.astype(np.float32)
     work = np.where(mask[..., None], 0.0, image).astype(np.float32)
-    distance = cv2.distanceTransform(mask.astype(np.uint8), cv2.DIST_L2, 5)
-    layer = np.ceil(distance).astype(int)
-    ux, uy, coherence = _across_edges(work @ LUMA if work.shape[-1] == 3 else work.mean(-1), known,
-                                      float(distance.max()))
+    grey = work @ LUMA if work.shape[-1] == 3 else work.mean(-1)
+    reach = float(cv2.distanceTransform(mask.astype(np.uint8), cv2.DIST_L2, 5).max())
+    direction = _across_edges(grey, known, reach)
+    labels = side_labels(crossing_lines(grey / 255.0, mask) if lines else [], mask.shape)
+    done = np.zeros_like(mask)
+    if labels[mask].any():
+        for label in np.unique(labels[mask]):
+            done |= _transport(work, mask & (labels == label), known & (labels == label), direction)
+    _transport(work, mask & ~done, known | done, direction)
+    return work
+
+
+def _transport(work: np.ndarray, fill: np.ndarray, readable: np.ndarray,
+               direction: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
+    """Fills `work`'s `fill` pixels in place from its `readable` ones (and those filled before them), one layer
+    of the distance to `readable` at a time; returns the pixels filled (one with nothing readable within EPS px
+    of it when its layer comes is left)."""
+    ux, uy, coherence = direction
+    readable = readable.copy()
+    filled = np.zeros_like(fill)
+    if not fill.any() or not readable.any():
+        return filled
+    layer = np.ceil(cv2.distanceTransform((~readable).astype(np.uint8), cv2.DIST_L2, 5)).astype(int)
     offsets, lengths = _offsets()
-    h, w = mask.shape
-    for level in range(1, int(layer.max()) + 1):
-        ys, xs = np.nonzero(layer == level)
-        if not len(ys):
-            continue
+    h, w = fill.shape
+    for level in np.unique(layer[fill]):
+        ys, xs = np.nonzero(fill & (layer == level))
         ny, nx = ys[:, None] + offsets[:, 0], xs[:, None] + offsets[:, 1]
         inside = (ny >= 0) & (ny < h) & (nx >= 0) & (nx < w)
         ny, nx = np.clip(ny, 0, h - 1), np.clip(nx, 0, w - 1)
         across = offsets[:, 1] * ux[ys, xs][:, None] + offsets[:, 0] * uy[ys, xs][:, None]  # off the edge line
         mu = KAPPA * coherence[ys, xs][:, None]
-        usable = inside & known[ny, nx]
+        usable = inside & readable[ny, nx]
         weight = np.exp(-0.5 * (mu / EPS) ** 2 * across ** 2) / lengths * usable
         weight = np.where(weight.sum(1, keepdims=True) > 1e-6, weight, usable / lengths)
+        reached = weight.sum(1) > 0
         weight /= np.maximum(weight.sum(1, keepdims=True), 1e-12)
-        work[ys, xs] = np.einsum("pk,pkc->pc", weight, work[ny, nx])
-        known[ys, xs] = True
-    return work
+        ys, xs = ys[reached], xs[reached]
+        work[ys, xs] = np.einsum("pk,pkc->pc", weight[reached], work[ny[reached], nx[reached]])
+        readable[ys, xs] = True
+        filled[ys, xs] = True
+    return filled
 
 
 @register("coherence")
