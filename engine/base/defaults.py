@@ -5,7 +5,7 @@ engine.formats.protocol); the held-out table (seeds 100 and up) only reports how
 the CLI, both stages and the Blender add-on's menus read it.
 
 The fill is Ref-coherence (coherence transport, engine.inpaint.inpainters.coherence). On the tuning
-scenes measured with both at e541ab4 on one H200 (statue_s21 and s55, a tree's band across the plinth; wallmount_s8)
+scenes measured with both at e541ab4 on one H200 (statue_s21, a tree's band across the plinth; s55, none; wallmount_s8)
 Ref-coherence scored 28.09 / 26.64 / 32.01 dB against Ref-telea's 26.40 / 26.31 / 33.65 (mean 28.91 against 28.79),
 above the unfilled hole on all three (25.78 / 24.31 / 24.31); on the wall it lost 1.64 dB (a dark rim at the hole's
 border carried down the wall's grain). The held-out table only reports: there Ref-telea fell below the unfilled
