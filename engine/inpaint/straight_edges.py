@@ -13,10 +13,9 @@ hole pixel's colour only from known pixels on the same sides of every such line.
 A candidate is a Hough line through the ring's edge pixels (Canny on the smoothed luminance, the hole's own
 outline left out); it is kept where it crosses the hole and, at its entry and its exit, the ring shows the two
 sides differing by at least MIN_CONTRAST in luminance at each of OFFSETS px from it, the same way round, and
-each side's colour at one end
-within SIDE_MATCH of the contrast of the same side's at the other. At most MAX_LINES lines, the highest
-contrast first (a grain's many weak edges outvote a shadow's one in the Hough count), none within DUPLICATE_RHO
-px and DUPLICATE_THETA of one kept.
+each side's colour at one end within SIDE_MATCH of the contrast of the same side's at the other. At most MAX_LINES
+lines, the highest contrast first (a grain's many weak edges outvote a shadow's one in the Hough count), none
+within DUPLICATE_RHO px and DUPLICATE_THETA of one kept.
 """
 
 from __future__ import annotations
@@ -51,14 +50,27 @@ class Line:
         return xs * np.cos(self.theta) + ys * np.sin(self.theta) - self.rho
 
 
+def normalised_blur(values: np.ndarray, weight: np.ndarray, sigma: float) -> np.ndarray:
+    """Gaussian mean of `values` (H, W[, C]) over the pixels `weight` (H, W) marks (0 where none is near): a
+    blur that reads nothing from the hole's placeholder."""
+    blur = lambda a: cv2.GaussianBlur(a, (0, 0), sigma, borderType=cv2.BORDER_REPLICATE)  # noqa: E731
+    w = blur(weight)
+    v = blur(values * (weight[..., None] if values.ndim == 3 else weight))
+    return v / np.maximum(w if values.ndim == 2 else w[..., None], 1e-6)
+
+
+def _grown(mask: np.ndarray, pixels: int) -> np.ndarray:
+    """`mask` grown by a square of `pixels` each way: the ring reaches the hole's corners as far as its sides
+    (engine.io.masks.dilate's disc reads less there: it lost the veined test's edge on one noise seed)."""
+    return cv2.dilate(mask.astype(np.uint8), np.ones((2 * pixels + 1,) * 2, np.uint8)).astype(bool)
+
+
 def _edges(grey: np.ndarray, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The ring's edge pixels (uint8 0/255) and the ring itself."""
     known = ~mask
-    ring = cv2.dilate(mask.astype(np.uint8), np.ones((2 * RING + 1,) * 2, np.uint8)).astype(bool) & known
-    away = ~cv2.dilate(mask.astype(np.uint8), np.ones((2 * OUTLINE + 1,) * 2, np.uint8)).astype(bool)
-    weight = known.astype(np.float32)
-    blur = lambda a: cv2.GaussianBlur(a, (0, 0), SMOOTH, borderType=cv2.BORDER_REPLICATE)  # noqa: E731
-    smooth = blur(grey * weight) / np.maximum(blur(weight), 1e-6)
+    ring = _grown(mask, RING) & known
+    away = ~_grown(mask, OUTLINE)
+    smooth = normalised_blur(grey.astype(np.float32), known.astype(np.float32), SMOOTH)
     grey8 = np.clip(smooth * 255.0, 0, 255).astype(np.uint8)
     step = 8.0 * 255 * MIN_CONTRAST / (SMOOTH * np.sqrt(2 * np.pi))  # Sobel's peak across a smoothed step
     edges = cv2.Canny(grey8, step / 2, step)
@@ -124,6 +136,7 @@ def _contrast_on_both_sides(line: Line, grey: np.ndarray, mask: np.ndarray, ring
 
 
 def _duplicate(line: Line, kept: list[Line]) -> bool:
+    """Whether a kept line is nearly the same line (Hough's (rho, theta) and (-rho, theta - pi) are one line)."""
     for other in kept:
         dtheta = abs(line.theta - other.theta)
         if dtheta < DUPLICATE_THETA and abs(line.rho - other.rho) < DUPLICATE_RHO:

@@ -30,7 +30,7 @@ import numpy as np
 
 from engine.inpaint.coarse import grown_box
 from engine.inpaint.registry import Inpainter, register
-from engine.inpaint.straight_edges import crossing_lines, side_labels
+from engine.inpaint.straight_edges import crossing_lines, normalised_blur, side_labels
 
 EPS = 5  # px: the neighbourhood a pixel is filled from
 KAPPA = 25.0  # how strongly the weights follow the edge direction where it is clear
@@ -48,14 +48,6 @@ def _offsets() -> tuple[np.ndarray, np.ndarray]:
     return np.stack([dy[keep], dx[keep]], 1), r[keep].astype(np.float32)
 
 
-def _normalised_blur(values: np.ndarray, weight: np.ndarray, sigma: float) -> np.ndarray:
-    """Gaussian mean of `values` (H, W[, C]) over the pixels `weight` (H, W) marks (0 where none is near)."""
-    blur = lambda a: cv2.GaussianBlur(a, (0, 0), sigma, borderType=cv2.BORDER_REPLICATE)  # noqa: E731
-    w = blur(weight)
-    v = blur(values * (weight[..., None] if values.ndim == 3 else weight))
-    return v / np.maximum(w if values.ndim == 2 else w[..., None], 1e-6)
-
-
 def _across_edges(grey: np.ndarray, known: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per pixel the unit direction (ux, uy) across the edges of `grey` (the structure tensor's major
     eigenvector: the edges run perpendicular to it), and its coherence in [0, 1] (((l1 - l2) / (l1 + l2))
@@ -63,12 +55,12 @@ def _across_edges(grey: np.ndarray, known: np.ndarray, reach: float) -> tuple[np
     over `reach` px, once: a tensor recomputed from the fill as it grows mixes the two edges of a band where
     they near each other, and the band pinches."""
     k = known.astype(np.float32)
-    smooth = _normalised_blur(grey, k, SIGMA)
+    smooth = normalised_blur(grey, k, SIGMA)
     gy, gx = np.gradient(smooth)
     trusted = cv2.erode(k, np.ones((3, 3), np.uint8))  # no gradient across the unknown's placeholder
     products = np.stack([gx * gx, gx * gy, gy * gy], -1)
-    tensor = _normalised_blur(products, trusted, RHO)
-    far = _normalised_blur(products, trusted, max(RHO, reach))
+    tensor = normalised_blur(products, trusted, RHO)
+    far = normalised_blur(products, trusted, max(RHO, reach))
     tensor = np.where(known[..., None], tensor, far)
     jxx, jxy, jyy = tensor[..., 0], tensor[..., 1], tensor[..., 2]
     root = np.sqrt((jxx - jyy) ** 2 + 4 * jxy ** 2)
