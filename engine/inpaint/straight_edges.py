@@ -65,9 +65,8 @@ def _grown(mask: np.ndarray, pixels: int) -> np.ndarray:
     return cv2.dilate(mask.astype(np.uint8), np.ones((2 * pixels + 1,) * 2, np.uint8)).astype(bool)
 
 
-def _edges(grey: np.ndarray, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The ring's edge pixels (uint8 0/255) and the ring itself."""
-    known = ~mask
+def _edges(grey: np.ndarray, mask: np.ndarray, known: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The ring's edge pixels (uint8 0/255) and the ring itself (`known`: the pixels outside the hole)."""
     ring = _grown(mask, RING) & known
     away = ~_grown(mask, OUTLINE)
     smooth = normalised_blur(grey.astype(np.float32), known.astype(np.float32), SMOOTH)
@@ -115,7 +114,8 @@ def _sides(line: Line, points: np.ndarray, grey: np.ndarray, known: np.ndarray) 
     return medians
 
 
-def _contrast_on_both_sides(line: Line, grey: np.ndarray, mask: np.ndarray, ring: np.ndarray) -> float:
+def _contrast_on_both_sides(line: Line, grey: np.ndarray, mask: np.ndarray, known: np.ndarray,
+                            ring: np.ndarray) -> float:
     """The least luminance contrast between the line's two sides, at every offset, where it enters the hole and
     where it leaves; 0 where it misses the hole, where one of them differs the other way round, or where the
     two ends' sides have other colours. A step (a shadow's edge, a border) passes at every offset; a vein in a
@@ -123,7 +123,7 @@ def _contrast_on_both_sides(line: Line, grey: np.ndarray, mask: np.ndarray, ring
     ends = _ends(line, mask, ring)
     if ends is None:
         return 0.0
-    sides = [_sides(line, points, grey, ~mask) for points in ends]
+    sides = [_sides(line, points, grey, known) for points in ends]
     if sides[0] is None or sides[1] is None:
         return 0.0
     differences = np.concatenate([sides[0][:, 0] - sides[0][:, 1], sides[1][:, 0] - sides[1][:, 1]])
@@ -150,10 +150,11 @@ def crossing_lines(grey: np.ndarray, mask: np.ndarray) -> list[Line]:
     """The straight edges (module docstring) that cross the hole `mask` in `grey` (H, W) luminance in 0-1."""
     if not mask.any() or mask.all():
         return []
-    edges, ring = _edges(grey, mask)
+    known = ~mask  # once, for every candidate's sides
+    edges, ring = _edges(grey, mask, known)
     found = cv2.HoughLines(edges, 1, np.pi / 180, MIN_VOTES)
     lines = [Line(float(rho), float(theta)) for rho, theta in ([] if found is None else found[:CANDIDATES, 0])]
-    contrast = [_contrast_on_both_sides(line, grey, mask, ring) for line in lines]
+    contrast = [_contrast_on_both_sides(line, grey, mask, known, ring) for line in lines]
     kept: list[Line] = []
     for index in np.argsort(contrast)[::-1]:
         if contrast[index] > 0 and not _duplicate(lines[index], kept):

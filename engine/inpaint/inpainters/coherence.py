@@ -69,11 +69,11 @@ def _across_edges(grey: np.ndarray, known: np.ndarray, reach: float) -> tuple[np
     return np.cos(theta), np.sin(theta), np.clip(coherence, 0.0, 1.0)
 
 
-def coherence_fill(image: np.ndarray, mask: np.ndarray, lines: bool = True) -> np.ndarray:
+def coherence_fill(image: np.ndarray, mask: np.ndarray) -> np.ndarray:
     """`image` (H, W, C) float32 in 0-255 with `mask` (H, W) filled by coherence transport (module docstring); a
-    mask over every pixel leaves nothing to carry, and the image is returned as it is. With `lines`, the straight
-    edges that cross the hole (engine.inpaint.straight_edges) are drawn through it: each side of them is filled
-    from its own side of the border only, and what no side's border reaches from the whole border after."""
+    mask over every pixel leaves nothing to carry, and the image is returned as it is. The straight edges that
+    cross the hole (engine.inpaint.straight_edges) are drawn through it: each side of them is filled from its own
+    side of the border only, and what no side's border reaches from the whole border after."""
     known = ~mask
     if not known.any():
         return image.astype(np.float32)
@@ -81,11 +81,11 @@ def coherence_fill(image: np.ndarray, mask: np.ndarray, lines: bool = True) -> n
     grey = work @ LUMA if work.shape[-1] == 3 else work.mean(-1)
     reach = float(cv2.distanceTransform(mask.astype(np.uint8), cv2.DIST_L2, 5).max())
     direction = _across_edges(grey, known, reach)
-    labels = side_labels(crossing_lines(grey / 255.0, mask) if lines else [], mask.shape)
+    lines = crossing_lines(grey / 255.0, mask)
+    labels = side_labels(lines, mask.shape)
     done = np.zeros_like(mask)
-    if labels[mask].any():
-        for label in np.unique(labels[mask]):
-            done |= _transport(work, mask & (labels == label), known & (labels == label), direction)
+    for label in np.unique(labels[mask]) if lines else []:
+        done |= _transport(work, mask & (labels == label), known & (labels == label), direction)
     _transport(work, mask & ~done, known | done, direction)
     return work
 
