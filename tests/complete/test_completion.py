@@ -153,16 +153,17 @@ def test_direct_inpaints_the_object_region_of_the_input_images_and_completes_fro
         filled = read_png(inpainted / "images" / camera.name)
         assert (filled[~region] == scene.images[i][~region]).all()
         assert not region.any() or (filled[region] != scene.images[i][region]).any()
+    masks = stages["removed"] / "masks"  # the object's region: where the input images were painted over
+    painted = painted_fill(inpainted, masks, tmp_path / "painted")  # fsr's fill is near the unfilled render
     out = tmp_path / "direct"
     report = run_complete(CompleteConfig(run=str(stages["run"]), method="direct", inpainter="fsr",
-                                         inpainted=str(inpainted),
+                                         inpainted=str(painted),
                                          removed=str(stages["removed"]), out=str(out), device="cpu", steps=300,
                                          options={"warm": False}))  # 300 of the run's 800: CI's 20 minutes
     assert report["method"] == "Direct-fsr" and np.isfinite(report["scores"]["m_psnr"])
-    masks = stages["removed"] / "masks"  # the object's region: where the input images were painted over
-    after, before = errors_toward(out / "run", with_hole(scene, masks), masks, inpainted / "images",
+    after, before = errors_toward(out / "run", with_hole(scene, masks), masks, painted / "images",
                                   stages["removed"] / "images")
-    assert after < before
+    assert after < 0.75 * before  # measured at 300 steps: 44.0 against 81.8
 
 
 def fsr_for_ft(stages) -> Path:
