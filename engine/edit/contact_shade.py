@@ -40,7 +40,7 @@ from engine.io.image_io import srgb_to_linear
 from engine.io.masks import dilate
 
 MIN_SAMPLES = 8  # per window, for a shading estimate
-MOST = 3.0  # the largest gain, in sRGB values (MOST ** 2.4 of light), whatever rounds of relighting it takes
+MOST = EffectsConfig.contact_most  # the largest gain, in sRGB values (MOST ** 2.4 of light), whatever rounds take
 SECTORS = 16  # directions from the object in which the ring beyond the zone says whether the darkness runs on
 LINES = 16  # directions of a line through a zone cell along which a band's darkness may run on past the zone
 MIN_CELLS = 4  # a sector's ring cells with a shading estimate, at least, for it to say
@@ -62,16 +62,16 @@ class ContactShade:
                 "max_gain": [round(float(g), 3) for g in self.gains.max(0)] if len(self.gains) else None,
                 "contrast": round(self.contrast, 3), "contrast_after_relights": [round(c, 3) for c in self.later]}
 
-    def joined(self, again: ContactShade) -> tuple[ContactShade, np.ndarray]:
+    def joined(self, again: ContactShade, most: float = MOST) -> tuple[ContactShade, np.ndarray]:
         """This darkening (relit) and what was found `again` on the renders after relighting it, as one: the
-        Gaussians of either, brightened by both gains but in all by at most MOST ** 2.4, with the larger share of
+        Gaussians of either, brightened by both gains but in all by at most `most` ** 2.4, with the larger share of
         the effect mask; and the (S, 3) gains still to apply to `again.shaded`. Why the bound: where the relight
         does not reach the dark pixels (Gaussians off the support drawing them) each round finds them as dark,
         and on a tiny run three rounds multiplied a cell's gain to 242."""
         weight, gains = np.zeros(len(self.shaded), np.float32), np.ones((len(self.shaded), 3))
         weight[self.shaded], gains[self.shaded] = self.weight, self.gains
         weight[again.shaded] = np.maximum(weight[again.shaded], again.weight)
-        step = np.minimum(again.gains, MOST ** 2.4 / gains[again.shaded])
+        step = np.minimum(again.gains, most ** 2.4 / gains[again.shaded])
         gains[again.shaded] *= step
         shaded = self.shaded | again.shaded
         return ContactShade(shaded=shaded, gains=gains[shaded], weight=weight[shaded], contrast=self.contrast,
@@ -80,12 +80,12 @@ class ContactShade:
 
 def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, float] | None,
                        shown: Samples, config: EffectsConfig, window: int = 2,
-                       most: float = MOST, others: np.ndarray | None = None, cast: np.ndarray | None = None
+                       others: np.ndarray | None = None, cast: np.ndarray | None = None
                        ) -> ContactShade | None:
     """The darkening under and beside the object (core centres `obj`) on `plane`, read off what the views
     `shown` of the support (the removed scene's renders, its object regions included, since what the views
     saw under an overhang shows there); None where nothing is darker than around it. A cell's gain is of light
-    (linear values, as `brighten` applies it), at most `most` ** 2.4: `most` in sRGB values. Other objects'
+    (linear values, as `brighten` applies it), at most `config.contact_most` ** 2.4 (sRGB values). Other objects'
     Gaussians (`others`) are never brightened. `cast` (bool over `remaining`, as `others`): the object's own cast
     shadow, already relit. Darkness past the zone where those lie, or the `others` (their own shadows included),
     is theirs: it says nothing of a band through the object (`_running_on`)."""
@@ -134,7 +134,7 @@ def find_contact_shade(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.nd
     if through.any():
         reference = np.where(through[..., None], _line_level(local, ends), reference)
     gain = np.exp(weight[..., None] * np.nan_to_num(reference - local))
-    gain = np.clip(cv2.blur(gain.astype(np.float32), (3, 3)), 1.0, most ** 2.4)
+    gain = np.clip(cv2.blur(gain.astype(np.float32), (3, 3)), 1.0, config.contact_most ** 2.4)
     weight = cv2.blur(weight.astype(np.float32), (3, 3))
     band_of_plane = support_only(site.near_plane(means, band_below, site.reach_up(remaining)), others)
     shaded = band_of_plane.copy()

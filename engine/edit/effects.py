@@ -69,6 +69,7 @@ class EffectsConfig:
     band_below: float = 0.15  # receivers and shadowed Gaussians may sit this far below the support, x object height
     contact_reach: float = 0.75  # the darkening under and beside the object is looked for this far out, x its radius
     underside_reach: float = 0.8  # the support built off its plane under the object is repainted this far, x radius
+    contact_most: float = 3.0  # the darkening's largest gain, in sRGB values (x ** 2.4 of light); 1 or less: not relit
 
 
 @dataclass

@@ -93,6 +93,7 @@ class RemovalConfig:
     loose: bool = True  # --object: also remove the pieces left loose where it was (engine.edit.loose)
     faint: bool = True  # --object: also the faint Gaussians left that render only in its region (engine.edit.faint)
     effects: bool = True  # also undo the object's shadow and darkening (relight them), write removed/effects
+    contact_most: float = EffectsConfig.contact_most  # the darkening's largest gain (sRGB); 1 or less: not relit
     out: str = ""  # default RUN/removed
     scene: str = ""  # default: the scene named in the run's config.json
     device: str = "auto"  # auto | cuda | cpu
@@ -195,7 +196,8 @@ def run_removal(config: RemovalConfig) -> dict:
     effects, diffuse = None, 0
     if config.effects:
         others = other_objects(run, remaining, obj.id if obj else None)
-        remaining, after, effects = _undo_effects(run, remaining, core, plane, regions, after, device, others)
+        remaining, after, effects = _undo_effects(run, remaining, core, plane, regions, after, device, others,
+                                                  EffectsConfig(contact_most=config.contact_most))
         # last: the support the object hid from many views loses the view-dependence it guessed there (before
         # the effects it changed what they read: tiny CPU statue_s6's unfilled hole -0.19 dB)
         others = np.concatenate([others, np.zeros(effects.laid, bool)])  # the patch laid is support
@@ -268,12 +270,12 @@ class _Effects:
 
 
 def _undo_effects(run: TrainedRun, remaining, core: np.ndarray, plane, regions: list[np.ndarray], after: list,
-                  device, others: np.ndarray) -> tuple[dict, list, _Effects]:
+                  device, others: np.ndarray, config: EffectsConfig) -> tuple[dict, list, _Effects]:
     """Relight the object's cast shadow, then the darkening under and beside it, each judged by the views'
     renders of the scene as it stands, then repaint the crater under it in the relit support's colour, then lay
     a patch where no support was built under it (undo_darkening); the changed Gaussians and their renders
     (depth changed only by the patch). Other objects' Gaussians (`others`) stay as they are."""
-    scene, config = run.scene, EffectsConfig()
+    scene = run.scene
     before = _train_samples(scene, after, regions)
     search = find_shadow(remaining, core, plane, before, config, others)
     if search.shadow is not None:
@@ -325,14 +327,14 @@ def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions:
     Apart so that a study of the shadow's relight can finish its variants exactly as removal does."""
     contact = None
     # what one relight leaves of it is looked for again, as the shadow's is
-    for _ in range(CONTACT_ROUNDS if shade else 0):
+    for _ in range(CONTACT_ROUNDS if shade and config.contact_most > 1 else 0):
         # the regions too: what the views saw under an overhang shows inside them in the removed renders
         shown = _train_samples(run.scene, after, [np.zeros_like(region) for region in regions])
         found = find_contact_shade(remaining, core, plane, shown, config, others=others if spared is None else spared,
                                    cast=cast)
         if found is None:
             break
-        contact, step = (found, found.gains) if contact is None else contact.joined(found)
+        contact, step = (found, found.gains) if contact is None else contact.joined(found, config.contact_most)
         remaining = brighten(remaining, found.shaded, step)
         after = _rerendered(run, remaining, after, device, run.scene.train)  # the next round reads these only
     underside = find_underside(remaining, core, plane, config, others)  # reads the Gaussians, not the renders

@@ -298,6 +298,21 @@ def test_the_darkening_under_an_overhang_is_relit_to_the_floor_around_it_texture
     assert found.weight[inner[found.shaded]].mean() > 0.9  # the effect masks take it
 
 
+def test_the_darkenings_gain_stays_under_the_configured_most():
+    """`remove --contact-most` bounds the darkening's relight (a judge variant): the overhang's floor, five times
+    darker under it, asks for more than 1.5 ** 2.4 of light and gets no more."""
+    from engine.edit.contact_shade import find_contact_shade
+
+    floor, _, seen, ball = overhang_scene(darken=0.2)
+    up = np.array([0.0, 0.0, 1.0])
+    core = object_core(gaussians(ball, np.full((len(ball), 3), 0.9)), up)
+    remaining, plane = gaussians(floor, seen), object_support(floor, core, up)
+    free = find_contact_shade(remaining, core, plane, Samples(floor, seen), EffectsConfig())
+    bound = find_contact_shade(remaining, core, plane, Samples(floor, seen), EffectsConfig(contact_most=1.5))
+    assert free.gains.max() > 1.5 ** 2.4 + 0.1, free.gains.max()
+    assert bound.gains.max() <= 1.5 ** 2.4 + 1e-5, bound.gains.max()
+
+
 def test_a_lit_layer_under_an_overhang_is_not_relit_past_the_lit_floor():
     """Where a cell is dark, one of its layers may be lit already (a surface other layers darken): the cell's gain
     lifted such Gaussians past the lit floor, a pale ring round the contact (tuning livingroom_s90, on an H200 and
