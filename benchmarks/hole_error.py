@@ -18,6 +18,7 @@ import numpy as np
 
 from engine.formats.layout import SceneLayout
 from engine.io.image_io import read_png
+from engine.io.masks import dilate
 from engine.metrics.image_metrics import psnr_from_mse
 from engine.metrics.scores import hole_crop
 
@@ -47,8 +48,7 @@ def main(args: list[str]) -> None:
         flat = gt.copy()
         flat[hole] = gt[hole].mean(0)
         outs = {name: read_png(Path(d) / n) / 255.0 for name, d in sets}
-        ring = cv2.dilate(hole.astype(np.uint8), np.ones((2 * RING + 1,) * 2, np.uint8)) > 0
-        ring &= ~hole
+        ring = dilate(hole, RING) & ~hole
         for k, o in outs.items():
             rings.setdefault(k, []).append(o[ring].mean(0) - gt[ring].mean(0))
         line = [f"{n} {int(hole.sum()):6d} px"]

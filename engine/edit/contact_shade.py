@@ -62,7 +62,7 @@ class ContactShade:
                 "max_gain": [round(float(g), 3) for g in self.gains.max(0)] if len(self.gains) else None,
                 "contrast": round(self.contrast, 3), "contrast_after_relights": [round(c, 3) for c in self.later]}
 
-    def joined(self, again: ContactShade, most: float = MOST) -> tuple[ContactShade, np.ndarray]:
+    def joined(self, again: ContactShade, most: float) -> tuple[ContactShade, np.ndarray]:
         """This darkening (relit) and what was found `again` on the renders after relighting it, as one: the
         Gaussians of either, brightened by both gains but in all by at most `most` ** 2.4, with the larger share of
         the effect mask; and the (S, 3) gains still to apply to `again.shaded`. Why the bound: where the relight
