@@ -2,9 +2,11 @@
 of it that is colour bias (the render's mean over the hole against gt/'s) and what it would be with that bias
 removed, beside two oracles that bound what a fill can reach without knowing the texture: gt/'s own mean over
 the hole (a flat fill of the right colour) and gt/ blurred (the texture's coarse shape only). With --picture, the
-holes' crops side by side (gt/, then each set), magnified.
+holes' crops side by side (gt/, then each set), magnified. With --resolution N (a run trained at `--resolution N`),
+the scene is read as training read it: its copy at 1/N of the size (engine.capture.downscale), so a tiny CPU run is
+scored too.
 
-    PYTHONPATH=. python benchmarks/hole_error.py SCENE NAME=DIR... [--picture OUT.png]
+    PYTHONPATH=. python benchmarks/hole_error.py SCENE NAME=DIR... [--picture OUT.png] [--resolution N]
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from engine.capture.downscale import downscaled_scene
 from engine.formats.layout import SceneLayout
 from engine.io.image_io import read_png
 from engine.io.masks import dilate
@@ -35,10 +38,18 @@ def scored(out: np.ndarray, gt: np.ndarray, hole: np.ndarray) -> tuple[float, np
     return mpsnr(out, gt, hole), bias, mpsnr(out - bias, gt, hole)
 
 
+def option(args: list[str], flag: str) -> tuple[str | None, list[str]]:
+    """The value after `flag` (None where absent) and the arguments without the two."""
+    if flag not in args:
+        return None, args
+    at = args.index(flag)
+    return args[at + 1], args[:at] + args[at + 2:]
+
+
 def main(args: list[str]) -> None:
-    picture = args[args.index("--picture") + 1] if "--picture" in args else None
-    args = [a for a in args if a not in ("--picture", picture)]
-    scene, sets = Path(args[0]), [a.split("=", 1) for a in args[1:]]
+    picture, args = option(args, "--picture")
+    resolution, args = option(args, "--resolution")
+    scene, sets = downscaled_scene(Path(args[0]), int(resolution or 1)), [a.split("=", 1) for a in args[1:]]
     tiles, totals, rings = [], {}, {}  # name -> per view, what scored() gives; name -> per view, the ring's bias
     for n in json.loads((SceneLayout(scene).split_json).read_text())["test"]:
         hole = read_png(SceneLayout(scene).holes / n, "mask") > 0
