@@ -18,6 +18,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from benchmarks.records import option
 from engine.capture.downscale import downscaled_scene
 from engine.formats.layout import SceneLayout
 from engine.io.image_io import read_png
@@ -36,14 +37,6 @@ def scored(out: np.ndarray, gt: np.ndarray, hole: np.ndarray) -> tuple[float, np
     """m-PSNR, the colour bias (the render's mean over the hole minus gt/'s) and m-PSNR with that bias removed."""
     bias = out[hole].mean(0) - gt[hole].mean(0)
     return mpsnr(out, gt, hole), bias, mpsnr(out - bias, gt, hole)
-
-
-def option(args: list[str], flag: str) -> tuple[str | None, list[str]]:
-    """The value after `flag` (None where absent) and the arguments without the two."""
-    if flag not in args:
-        return None, args
-    at = args.index(flag)
-    return args[at + 1], args[:at] + args[at + 2:]
 
 
 def main(args: list[str]) -> None:

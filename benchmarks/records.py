@@ -34,6 +34,15 @@ def run_study_args(doc: str) -> argparse.Namespace:
     return parser.parse_args()
 
 
+def option(args: list[str], flag: str) -> tuple[str | None, list[str]]:
+    """The value after `flag` (None where absent) and the arguments without the two: the scoring scripts'
+    (hole_error.py, removal_score.py) optional flags beside their positional ones."""
+    if flag not in args:
+        return None, args
+    at = args.index(flag)
+    return args[at + 1], args[:at] + args[at + 2:]
+
+
 def save_record(results: Path, name: str, record: dict) -> None:
     results.mkdir(parents=True, exist_ok=True)
     (results / f"{name}.json").write_text(json.dumps(record, indent=1))
