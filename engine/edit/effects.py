@@ -70,6 +70,9 @@ class EffectsConfig:
     contact_reach: float = 0.75  # the darkening under and beside the object is looked for this far out, x its radius
     underside_reach: float = 0.8  # the support built off its plane under the object is repainted this far, x radius
     contact_most: float = 3.0  # the darkening's largest gain, in sRGB values (x ** 2.4 of light); 1 or less: not relit
+    # a footprint cell the support covers less than this (alpha, seen from above) gets a flat patch of it laid: 0.5 what
+    # was never built; higher, also the part-transparent rim where the support ends at the hole
+    unbuilt_cover: float = 0.5
 
 
 @dataclass

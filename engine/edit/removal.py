@@ -94,6 +94,7 @@ class RemovalConfig:
     faint: bool = True  # --object: also the faint Gaussians left that render only in its region (engine.edit.faint)
     effects: bool = True  # also undo the object's shadow and darkening (relight them), write removed/effects
     contact_most: float = EffectsConfig.contact_most  # the darkening's largest gain (sRGB); 1 or less: not relit
+    unbuilt_cover: float = EffectsConfig.unbuilt_cover  # support cover (alpha) under which a patch of it is laid
     out: str = ""  # default RUN/removed
     scene: str = ""  # default: the scene named in the run's config.json
     device: str = "auto"  # auto | cuda | cpu
@@ -197,7 +198,8 @@ def run_removal(config: RemovalConfig) -> dict:
     if config.effects:
         others = other_objects(run, remaining, obj.id if obj else None)
         remaining, after, effects = _undo_effects(run, remaining, core, plane, regions, after, device, others,
-                                                  EffectsConfig(contact_most=config.contact_most))
+                                                  EffectsConfig(contact_most=config.contact_most,
+                                                                unbuilt_cover=config.unbuilt_cover))
         # last: the support the object hid from many views loses the view-dependence it guessed there (before
         # the effects it changed what they read: tiny CPU statue_s6's unfilled hole -0.19 dB)
         others = np.concatenate([others, np.zeros(effects.laid, bool)])  # the patch laid is support

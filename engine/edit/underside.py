@@ -38,7 +38,6 @@ from engine.io.gaussians import PARAM_NAMES, Gaussians
 RING = (1.0, 1.5)  # x the footprint's radius: the support whose colour the underside takes
 OFF_PLANE = 0.02  # x the footprint's radius: off the plane by more than this, the support was built from grazing views
 MIN_RING = 20  # Gaussians in the ring, for its colour
-UNBUILT = 0.5  # a footprint cell the support's Gaussians cover less than this (alpha) was never built
 LAID_OPACITY = 0.95  # the patch's Gaussians
 
 
@@ -107,7 +106,7 @@ def find_unbuilt(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray,
     grid, frame = site.grid, site.frame
     cells = np.argwhere(grid.raster(frame.flat(obj), site.spacing))
     centres = grid.origin + (cells + 0.5) * grid.cell
-    bare = _cover(remaining, band, frame.flat, centres, grid.cell) < UNBUILT
+    bare = _cover(remaining, band, frame.flat, centres, grid.cell) < config.unbuilt_cover
     if not bare.any():
         return None
     points = centres[bare, :1] * frame.a + centres[bare, 1:] * frame.b - frame.d * frame.n

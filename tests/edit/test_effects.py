@@ -4,6 +4,7 @@ repainted): hand-built scenes with a worked-out answer, then the removal stage o
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -461,7 +462,7 @@ def test_a_patch_of_the_support_is_laid_where_none_was_built_under_the_object_an
     colour lies 0.1 below: after removal every view would look through to it (a toy on a cloth: the table's wood
     showed where the toy stood). A flat patch in the floor's colour around covers that half, on the floor's plane;
     the half that was built gets none, and a floor built everywhere none at all."""
-    from engine.edit.underside import UNBUILT, _cover, find_unbuilt
+    from engine.edit.underside import _cover, find_unbuilt
 
     floor, lit, seen, truth, box = shadow_scene(sun(30), darken=1.0)
     bare = (np.abs(floor[:, 0]) < 0.15) & (np.abs(floor[:, 1]) < 0.15) & (floor[:, 0] < 0)
@@ -480,8 +481,33 @@ def test_a_patch_of_the_support_is_laid_where_none_was_built_under_the_object_an
     everything = np.ones(len(laid["means"]), bool)
     cover = _cover(laid, everything & (laid["means"][:, 2].numpy() > -0.05), lambda p: p[:, :2], floor[bare, :2],
                    0.01)
-    assert cover.min() >= UNBUILT
+    assert cover.min() >= EffectsConfig().unbuilt_cover
     assert find_unbuilt(gaussians(floor, seen), core, plane, EffectsConfig()) is None
+
+
+def test_the_support_left_part_transparent_under_the_object_gets_a_patch_only_above_the_configured_cover():
+    """Under one half of the box the floor was built faint (the views saw the box there, and trained its edge thin):
+    it covers the floor part way, so a render shows it darkened over black, the rim past a removed object's
+    hole. The default (`unbuilt_cover` 0.5: never built) lays nothing there; asked for more cover, `remove
+    --unbuilt-cover 0.9` lays the patch over that half only, and the floor then covers it past 0.9."""
+    from engine.edit.underside import _cover, find_unbuilt
+
+    floor, lit, seen, truth, box = shadow_scene(sun(30), darken=1.0)
+    faint = (floor[:, 0] < 0) & (floor[:, 0] > -0.4) & (np.abs(floor[:, 1]) < 0.4)  # past the box's half, too
+    under = faint & (np.abs(floor[:, 0]) < 0.15) & (np.abs(floor[:, 1]) < 0.15)
+    built = gaussians(floor, seen)
+    built["opacities"][torch.as_tensor(faint)] = math.log(0.15 / 0.85)
+    up = np.array([0.0, 0.0, 1.0])
+    core = object_core(gaussians(box, np.full((len(box), 3), 0.9)), up)
+    plane = object_support(floor, core, up)
+    before = _cover(built, np.ones(len(floor), bool), lambda p: p[:, :2], floor[under, :2], 0.01)
+    assert before.min() > 0.5 and np.median(before) < 0.9  # part way: neither never built nor whole
+    assert find_unbuilt(built, core, plane, EffectsConfig()) is None
+    patch = find_unbuilt(built, core, plane, EffectsConfig(unbuilt_cover=0.9))
+    assert patch is not None and patch["means"][:, 0].max() < 0.05  # over the faint half only
+    laid = {k: torch.cat([built[k], patch[k]]) for k in built}
+    cover = _cover(laid, np.ones(len(laid["means"]), bool), lambda p: p[:, :2], floor[under, :2], 0.01)
+    assert np.median(cover) >= 0.9
 
 
 def test_other_objects_bases_keep_their_own_colours_in_the_contact_shade_and_the_crater():
