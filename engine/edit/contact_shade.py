@@ -40,7 +40,6 @@ from engine.io.image_io import srgb_to_linear
 from engine.io.masks import dilate
 
 MIN_SAMPLES = 8  # per window, for a shading estimate
-MOST = EffectsConfig.contact_most  # the largest gain, in sRGB values (MOST ** 2.4 of light), whatever rounds take
 SECTORS = 16  # directions from the object in which the ring beyond the zone says whether the darkness runs on
 LINES = 16  # directions of a line through a zone cell along which a band's darkness may run on past the zone
 MIN_CELLS = 4  # a sector's ring cells with a shading estimate, at least, for it to say

@@ -558,11 +558,9 @@ def test_removal_writes_the_effects_folder_for_every_view(tiny_run, tmp_path):
     assert max(saved["shadow"]["lacking"]) < 1.05 <= max(saved["shadow"]["residual_gain"]), saved["shadow"]
     # the darkening under the plush looked for again after each relight (found again here: the crater's grazing
     # Gaussians draw it dark), and brightened in all by at most the one relight's bound (without it: 242x)
-    from engine.edit.contact_shade import MOST
-
     contact = saved["contact"]
     assert contact is not None and len(contact["contrast_after_relights"]) >= 1, contact
-    assert max(contact["max_gain"]) <= MOST ** 2.4 + 1e-3, contact
+    assert max(contact["max_gain"]) <= EffectsConfig().contact_most ** 2.4 + 1e-3, contact
     assert report["support_plane"] is not None and json.loads((out / "removal.json").read_text())["support_plane"]
     scene = load_run(tiny_run).scene
     for camera in scene.cameras:
