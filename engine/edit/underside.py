@@ -93,8 +93,8 @@ def find_unbuilt(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray,
                  config: EffectsConfig, others: np.ndarray | None = None) -> Gaussians | None:
     """A patch for the support never built under the object: one flat Gaussian on the plane, in the support's
     colour around, per cell of the object's footprint (seen from straight above) that the support's Gaussians
-    cover with less than UNBUILT opacity; None where every cell is covered, or as find_underside. Each takes
-    the identity of the support Gaussian nearest it. Why: removal otherwise shows what lies under the support
+    cover with less than `config.unbuilt_cover` opacity; None where every cell is covered, or as find_underside.
+    Each takes the identity of the support Gaussian nearest it. Why: removal otherwise shows what lies under the support
     there (a tiny CPU tabletop of seed 90: the table's wood through the cloth; removal outside the true hole
     26.56 -> 28.25 dB, the unfilled hole 15.19 -> 22.93, Ref-telea 23.17 -> 23.97)."""
     if plane is None or len(obj) < 20 or config.underside_reach <= 0:
