@@ -72,7 +72,7 @@ class EffectsConfig:
     contact_most: float = 3.0  # the darkening's largest gain, in sRGB values (x ** 2.4 of light); 1 or less: not relit
     # a footprint cell the support covers less than this (alpha, seen from above) gets a flat patch of it laid: 0.5 what
     # was never built; higher, also the part-transparent rim where the support ends at the hole
-    unbuilt_cover: float = 0.5
+    unbuilt_cover: float = 0.9
 
 
 @dataclass
