@@ -40,7 +40,7 @@
 #                                  then benchmarks/subject_inputs.py: what the subject was chosen from, an npz to study here
 #   judge SCENE [REMOVE FLAGS]     base run, remove (with the flags), holes and a variant of them (JUDGE_VARIANT),
 #                                  each inpainted (JUDGE_INPAINTER) and completed by Ref; scored by removal_score.py,
-#                                  hole_error.py and leftovers.py                            ("Removal and its effects")
+#                                  ring_colour.py, hole_error.py and leftovers.py            ("Removal and its effects")
 #   matrix SCENE... [-- ARGS]      benchmarks/matrix.py's whole matrix (its own defaults, ARGS added)   ("Completion")
 #   heldout SCENE... [-- ARGS]     the held-out table: one matrix process per scene, two a GPU (HELDOUT_CELLS's cells,
 #                                  ARGS added), then their tables merged into $OUT/heldout/       ("Held-out table")
@@ -129,6 +129,7 @@ judge() {  # $1 scene, the rest flags for `engine remove`; JUDGE_INPAINTER (tele
       --out $R/complete_variant; } > $J/chain.log 2>&1 || { tail -5 $J/chain.log; return 1; }
   local ref=$(ls -d $R/complete/Ref-*) var=$R/complete_variant
   python3 benchmarks/removal_score.py $S $R/removed --picture $D/${name}_judge.jpg > $D/${name}_judge.txt
+  python3 benchmarks/ring_colour.py $R $S >> $D/${name}_judge.txt  # the patch's colour against the truth's ring
   python3 benchmarks/hole_error.py $S removed=$R/removed/images "Ref-$I=$ref/renders" "Ref-$I-variant=$var/renders" \
     --picture $D/${name}_hole_crops.png > $D/${name}_hole_error.txt
   cp $R/metrics.json $D/${name}_base_metrics.json; cp $R/removed/removal.json $D/${name}_removal.json

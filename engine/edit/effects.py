@@ -71,7 +71,9 @@ class EffectsConfig:
     underside_reach: float = 0.8  # the support built off its plane under the object is repainted this far, x radius
     contact_most: float = 3.0  # the darkening's largest gain, in sRGB values (x ** 2.4 of light); 1 or less: not relit
     # a footprint cell the support covers less than this (alpha, seen from above) gets a flat patch of it laid: 0.5 what
-    # was never built; higher, also the part-transparent rim where the support ends at the hole
+    # was never built; 0.9 also the part-transparent rim where the support ends at the hole. GPU judges at 3067ef9,
+    # 0.5 -> 0.9: outside the true hole statue_s55 39.46 -> 39.56, tabletop_s8 26.61 -> 28.35, livingroom_s8 same
+    # (none laid); Ref-coherence 25.16 -> 26.12, 26.21 -> 26.10, 24.56 -> 24.55 (docs/BENCHMARKS.md)
     unbuilt_cover: float = 0.9
 
 

@@ -488,8 +488,8 @@ def test_a_patch_of_the_support_is_laid_where_none_was_built_under_the_object_an
 def test_the_support_left_part_transparent_under_the_object_gets_a_patch_only_above_the_configured_cover():
     """Under one half of the box the floor was built faint (the views saw the box there, and trained its edge thin):
     it covers the floor part way, so a render shows it darkened over black, the rim past a removed object's
-    hole. The default (`unbuilt_cover` 0.5: never built) lays nothing there; asked for more cover, `remove
-    --unbuilt-cover 0.9` lays the patch over that half only, and the floor then covers it past 0.9."""
+    hole. At `unbuilt_cover` 0.5 (only where never built) nothing is laid there; at the default 0.9 (`remove
+    --unbuilt-cover`) the patch is laid over that half only, and the floor then covers it past 0.9."""
     from engine.edit.underside import _cover, find_unbuilt
 
     floor, lit, seen, truth, box = shadow_scene(sun(30), darken=1.0)
@@ -502,8 +502,9 @@ def test_the_support_left_part_transparent_under_the_object_gets_a_patch_only_ab
     plane = object_support(floor, core, up)
     before = _cover(built, np.ones(len(floor), bool), lambda p: p[:, :2], floor[under, :2], 0.01)
     assert before.min() > 0.5 and np.median(before) < 0.9  # part way: neither never built nor whole
-    assert find_unbuilt(built, core, plane, EffectsConfig()) is None
-    patch = find_unbuilt(built, core, plane, EffectsConfig(unbuilt_cover=0.9))
+    assert find_unbuilt(built, core, plane, EffectsConfig(unbuilt_cover=0.5)) is None
+    assert EffectsConfig().unbuilt_cover == 0.9
+    patch = find_unbuilt(built, core, plane, EffectsConfig())
     assert patch is not None and patch["means"][:, 0].max() < 0.05  # over the faint half only
     laid = {k: torch.cat([built[k], patch[k]]) for k in built}
     cover = _cover(laid, np.ones(len(laid["means"]), bool), lambda p: p[:, :2], floor[under, :2], 0.01)
