@@ -75,6 +75,9 @@ class EffectsConfig:
     # 0.5 -> 0.9: outside the true hole statue_s55 39.46 -> 39.56, tabletop_s8 26.61 -> 28.35, livingroom_s8 same
     # (none laid); Ref-coherence 25.16 -> 26.12, 26.21 -> 26.10, 24.56 -> 24.55 (docs/BENCHMARKS.md)
     unbuilt_cover: float = 0.9
+    # the support's colour round the object (the crater's and the patch's) from what the training views render of it
+    # where whole (underside.SOLID), not from its Gaussians' base colours, which count the ones no view sees
+    seen_colour: bool = False
 
 
 @dataclass

@@ -55,7 +55,7 @@ from engine.edit.effects import (
 from engine.edit.faint import faint_inside
 from engine.edit.loose import loose_pieces
 from engine.edit.support_plane import Footprint, object_core, object_support
-from engine.edit.underside import Underside, find_unbuilt, find_underside, paint
+from engine.edit.underside import SOLID, Underside, find_unbuilt, find_underside, paint
 from engine.formats.cameras import mean_up
 from engine.formats.layout import EffectsLayout, RemovedLayout
 from engine.geometry.scene_geometry import ProposalConfig, camera_frame, find_supports, unsliced
@@ -95,6 +95,7 @@ class RemovalConfig:
     effects: bool = True  # also undo the object's shadow and darkening (relight them), write removed/effects
     contact_most: float = EffectsConfig.contact_most  # the darkening's largest gain (sRGB); 1 or less: not relit
     unbuilt_cover: float = EffectsConfig.unbuilt_cover  # support cover (alpha) under which a patch of it is laid
+    seen_colour: bool = EffectsConfig.seen_colour  # the patch's colour from the views' renders of the support round it
     out: str = ""  # default RUN/removed
     scene: str = ""  # default: the scene named in the run's config.json
     device: str = "auto"  # auto | cuda | cpu
@@ -199,7 +200,8 @@ def run_removal(config: RemovalConfig) -> dict:
         others = other_objects(run, remaining, obj.id if obj else None)
         remaining, after, effects = _undo_effects(run, remaining, core, plane, regions, after, device, others,
                                                   EffectsConfig(contact_most=config.contact_most,
-                                                                unbuilt_cover=config.unbuilt_cover))
+                                                                unbuilt_cover=config.unbuilt_cover,
+                                                                seen_colour=config.seen_colour))
         # last: the support the object hid from many views loses the view-dependence it guessed there (before
         # the effects it changed what they read: tiny CPU statue_s6's unfilled hole -0.19 dB)
         others = np.concatenate([others, np.zeros(effects.laid, bool)])  # the patch laid is support
@@ -339,10 +341,12 @@ def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions:
         contact, step = (found, found.gains) if contact is None else contact.joined(found, config.contact_most)
         remaining = brighten(remaining, found.shaded, step)
         after = _rerendered(run, remaining, after, device, run.scene.train)  # the next round reads these only
-    underside = find_underside(remaining, core, plane, config, others)  # reads the Gaussians, not the renders
+    # the support where the training views render it whole (a faint rim shows darker over black)
+    shown = _train_samples(run.scene, after, [p.alpha < SOLID for p in after]) if config.seen_colour else None
+    underside = find_underside(remaining, core, plane, config, others, shown)
     if underside is not None:
         remaining = paint(remaining, underside)
-    patch = find_unbuilt(remaining, core, plane, config, others)
+    patch = find_unbuilt(remaining, core, plane, config, others, shown)
     if patch is not None:  # last in the scene; it moves surfaces, so every view with its depth
         remaining = concat(remaining, patch)
         after = list(render_pictures(remaining, run.scene.cameras, run.sh_degree, device))

@@ -14,6 +14,7 @@ view-dependent terms. On the plane the support was built where views saw it well
 Why a mean and not the median: a flat colour scores best at the texture's mean, and on wood of light and dark
 stripes the per-channel median is the majority stripe's colour (the GPU livingroom's crater G +0.15 over gt/'s);
 the mean gave that scene's unfilled hole 19.11 -> 21.41 dB (docs/BENCHMARKS.md, "Removal and its effects").
+With `remove --seen-colour` the ring's colour is what the training views render of it instead (seen_ring).
 
 Where the views built no support at all under the object (a toy on a cloth: the cloth under it was hidden in most
 views, so after removal the render sees through to the table below), a patch is laid (`find_unbuilt`): one flat
@@ -30,7 +31,7 @@ import numpy as np
 import torch
 
 from engine.base.knn import knn
-from engine.edit.effects import LUMA, EffectsConfig, colors_of, darker_share, support_only, trimmed_mean
+from engine.edit.effects import LUMA, EffectsConfig, Samples, colors_of, darker_share, support_only, trimmed_mean
 from engine.edit.plane_grid import Site
 from engine.formats.splat_ply import SH_C0
 from engine.io.gaussians import PARAM_NAMES, Gaussians
@@ -39,6 +40,9 @@ RING = (1.0, 1.5)  # x the footprint's radius: the support whose colour the unde
 OFF_PLANE = 0.02  # x the footprint's radius: off the plane by more than this, the support was built from grazing views
 MIN_RING = 20  # Gaussians in the ring, for its colour
 LAID_OPACITY = 0.95  # the patch's Gaussians
+SOLID = 0.9  # a rendered pixel this opaque (3 px from any less) shows the support whole, not a faint rim over black
+SEEN_BAND = 0.1  # x the footprint's radius: a view's surface point this near the plane shows the support
+MIN_SEEN = 200  # the views' ring samples, for its colour (fewer: the Gaussians' base colours)
 
 
 @dataclass
@@ -57,15 +61,17 @@ class Underside:
 
 
 def find_underside(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, float] | None,
-                   config: EffectsConfig, others: np.ndarray | None = None) -> Underside | None:
+                   config: EffectsConfig, others: np.ndarray | None = None,
+                   shown: Samples | None = None) -> Underside | None:
     """The Gaussians under the object (core centres `obj`) standing on `plane` that lie off it, and the colour
-    of the support around; None where there are none, no plane, or too little support around to tell. Other
-    objects' Gaussians (`others`) are neither painted nor part of the support around."""
+    of the support around (as the views' samples `shown` render it, where given); None where there are none, no
+    plane, or too little support around to tell. Other objects' Gaussians (`others`) are neither painted nor part
+    of the support around."""
     if plane is None or len(obj) < 20 or config.underside_reach <= 0:
         return None
     site = Site.of(obj, plane)
     means = remaining["means"].numpy()
-    band, across, colour = _support_around(remaining, site, config, others)
+    band, across, colour = _support_around(remaining, site, config, others, shown)
     painted = (band & (across < config.underside_reach * site.radius)
                & (np.abs(site.frame.height(means)) > OFF_PLANE * site.radius))
     if colour is None or not painted.any():
@@ -75,22 +81,40 @@ def find_underside(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarra
     return Underside(painted=painted, colour=colour, weight=darker_share(darker, config.min_contrast))
 
 
-def _support_around(remaining: Gaussians, site: Site, config: EffectsConfig, others: np.ndarray | None
-                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+def _support_around(remaining: Gaussians, site: Site, config: EffectsConfig, others: np.ndarray | None,
+                    shown: Samples | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """(N,) the support's Gaussians in the relights' band about the plane, (N,) each Gaussian's distance across
-    the plane from the footprint's centre, and the trimmed mean base colour of the band's Gaussians in the ring just
-    beyond the footprint (None with fewer than MIN_RING there)."""
+    the plane from the footprint's centre, and the support's colour in the ring just beyond the footprint: the
+    trimmed mean of the views' samples `shown` there (seen_ring), else of the band's Gaussians' base colours there
+    (None with fewer than MIN_RING)."""
     means = remaining["means"].numpy()
     band = support_only(site.near_plane(means, config.band_below), others)
     across = np.linalg.norm(site.frame.flat(means) - site.centre, axis=1)
     ring = band & (across > RING[0] * site.radius) & (across < RING[1] * site.radius)
+    seen = None if shown is None else seen_ring(site, shown)
+    if seen is not None:
+        return band, across, seen
     if ring.sum() < MIN_RING:
         return band, across, None
     return band, across, trimmed_mean(colors_of(remaining)[ring])  # not medians: the ring's wood stripes
 
 
+def seen_ring(site: Site, shown: Samples) -> np.ndarray | None:
+    """The trimmed mean colour of the views' surface samples `shown` within SEEN_BAND of the plane in the ring
+    just beyond the footprint; None with fewer than MIN_SEEN there. Why the views and not the Gaussians: a mean over
+    the Gaussians counts the ones under the surface that no view sees, and their colours are whatever training left
+    (GPU runs at 3067ef9 and 74fef3e: the base colours' mean 0.04 to 0.08 off gt/'s ring in some channel on six of
+    seven scenes, wallmount_s101's pale pink plaque; tiny CPU livingroom_s8: R +0.023 against the views' -0.002)."""
+    height = site.frame.height(shown.points)
+    across = np.linalg.norm(site.frame.flat(shown.points) - site.centre, axis=1)
+    ring = ((np.abs(height) < SEEN_BAND * site.radius) & (across > RING[0] * site.radius)
+            & (across < RING[1] * site.radius))
+    return trimmed_mean(shown.colors[ring]) if ring.sum() >= MIN_SEEN else None
+
+
 def find_unbuilt(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, float] | None,
-                 config: EffectsConfig, others: np.ndarray | None = None) -> Gaussians | None:
+                 config: EffectsConfig, others: np.ndarray | None = None,
+                 shown: Samples | None = None) -> Gaussians | None:
     """A patch for the support never built under the object: one flat Gaussian on the plane, in the support's
     colour around, per cell of the object's footprint (seen from straight above) that the support's Gaussians
     cover with less than `config.unbuilt_cover` opacity; None where every cell is covered, or as find_underside.
@@ -100,7 +124,7 @@ def find_unbuilt(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray,
     if plane is None or len(obj) < 20 or config.underside_reach <= 0:
         return None
     site = Site.of(obj, plane)
-    band, _, colour = _support_around(remaining, site, config, others)
+    band, _, colour = _support_around(remaining, site, config, others, shown)
     if colour is None:
         return None
     grid, frame = site.grid, site.frame

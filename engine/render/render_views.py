@@ -28,6 +28,7 @@ class ViewPicture:
     depth: np.ndarray | None  # (H, W) float32 z-depth of the surface shown (engine.render.surface_depth), inf
     # where alpha < 1/2; None when not asked for
     labels: np.ndarray | None  # (H, W) uint8 argmax class, with a classifier
+    alpha: np.ndarray | None = None  # (H, W) float32 blended opacity: where the surface shown is whole
 
 
 @torch.no_grad()
@@ -43,7 +44,7 @@ def render_pictures(gaussians: Gaussians, cameras: list[Camera], sh_degree: int,
         rgb = (out.rgb.clamp(0, 1) * 255 + 0.5).to(torch.uint8)
         labels = out.logits.argmax(-1).to(torch.uint8).cpu().numpy() if out.logits is not None else None
         surface = surface_depth(on_device, tensors, default_backend(device))[0].float().cpu().numpy() if depth else None
-        yield ViewPicture(rgb=rgb.cpu().numpy(), depth=surface, labels=labels)
+        yield ViewPicture(rgb=rgb.cpu().numpy(), depth=surface, labels=labels, alpha=out.alpha.float().cpu().numpy())
 
 
 def render_depths(gaussians: Gaussians, cameras: list[Camera], sh_degree: int, device: torch.device, stage: str

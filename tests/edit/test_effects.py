@@ -511,6 +511,29 @@ def test_the_support_left_part_transparent_under_the_object_gets_a_patch_only_ab
     assert np.median(cover) >= 0.9
 
 
+
+def test_given_the_views_the_patch_takes_the_colour_they_show_round_the_object_not_that_of_gaussians_none_sees():
+    """Under the floor's surface lies a second layer of Gaussians no view sees (training left them grey), as a
+    trained support holds: the mean of the Gaussians' base colours in the ring is half grey, a patch of it shows
+    paler or darker than the floor round it. Given the views' samples (`remove --seen-colour`), the patch takes
+    what they show of the ring."""
+    from engine.edit.underside import find_unbuilt
+
+    floor, lit, seen, truth, box = shadow_scene(sun(30), darken=1.0)
+    bare = (np.abs(floor[:, 0]) < 0.15) & (np.abs(floor[:, 1]) < 0.15) & (floor[:, 0] < 0)
+    under = floor[~bare] - [0.0, 0.0, 0.01]
+    built = gaussians(np.concatenate([floor[~bare], under]),
+                      np.concatenate([seen[~bare], np.full((len(under), 3), 0.3)]))
+    up = np.array([0.0, 0.0, 1.0])
+    core = object_core(gaussians(box, np.full((len(box), 3), 0.9)), up)
+    plane = object_support(floor, core, up)
+    r = np.linalg.norm(floor[:, :2], axis=1)
+    ring_truth = seen[(r > 0.25) & (r < 0.3)].mean(0)  # about underside.RING's ring past the box's footprint
+    given = find_unbuilt(built, core, plane, EffectsConfig(), shown=view_samples(floor, seen))
+    assert given is not None and np.all(np.abs(colors_of(given)[0] - ring_truth) < 0.05)
+    by_gaussians = find_unbuilt(built, core, plane, EffectsConfig())
+    assert np.abs(colors_of(by_gaussians)[0] - ring_truth).max() > 0.1  # the hidden grey layer in the mean
+
 def test_other_objects_bases_keep_their_own_colours_in_the_contact_shade_and_the_crater():
     """Another object stands in the darkened ring beside the ball, its base dark (its own colour and contact
     shadow), and part of the sunk crater under the ball belongs to it by identity: neither is brightened or
