@@ -511,7 +511,6 @@ def test_the_support_left_part_transparent_under_the_object_gets_a_patch_only_ab
     assert np.median(cover) >= 0.9
 
 
-
 def test_given_the_views_the_patch_takes_the_colour_they_show_round_the_object_not_that_of_gaussians_none_sees():
     """Under the floor's surface lies a second layer of Gaussians no view sees (training left them grey), as a
     trained support holds: the mean of the Gaussians' base colours in the ring is half grey, a patch of it shows
