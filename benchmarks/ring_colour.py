@@ -1,4 +1,4 @@
-"""The support's colour in the ring just past a removed object's footprint (underside.RING: 1 to 1.5 footprint
+"""The support's colour in the ring just past a removed object's footprint (underside.in_ring: 1 to 1.5 footprint
 radii, within a tenth of one of the support's plane), read five ways, against the colour removal gave the crater
 and the patch it laid (removal.json's effects.underside.colour):
   truth    gt/ (the scene without the object) at its test views, where gt/'s depth puts a pixel in the ring;
@@ -25,14 +25,12 @@ import torch
 from benchmarks.records import option
 from engine.capture.scene import load_scene
 from engine.edit.effects import colors_of, trimmed_mean
-from engine.edit.underside import RING
+from engine.edit.underside import in_ring
 from engine.formats.cameras import backproject
 from engine.formats.layout import RunLayout
 from engine.io.image_io import exr_name, read_depth, read_png
 from engine.render.rasterize import CameraTensors, view_colours
 from engine.train.trained_run import load_splats
-
-BAND = 0.1  # x the footprint's radius: how far off the plane a ring point may lie
 
 
 class Ring:
@@ -48,8 +46,7 @@ class Ring:
     def holds(self, points: np.ndarray) -> np.ndarray:
         height = points @ self.normal + self.offset
         across = np.linalg.norm(points - np.outer(height, self.normal) - self.centre, axis=1)
-        lo, hi = RING[0] * self.radius, RING[1] * self.radius
-        return (np.abs(height) < BAND * self.radius) & (across > lo) & (across < hi)
+        return in_ring(height, across, self.radius)
 
 
 def pixels_in_ring(ring: Ring, camera, depth: np.ndarray, image: np.ndarray) -> np.ndarray:

@@ -194,7 +194,8 @@ def run_removal(config: RemovalConfig) -> dict:
     remaining = keep(run.gaussians, removed)
     plane = object_support(remaining["means"].numpy(), core, up)
     footprint = Footprint.of(core, up if plane is None else plane[0])
-    after = list(render_pictures(remaining, scene.cameras, run.sh_degree, device))
+    # alpha only for --seen-colour (undo_darkening's views' samples; relights re-render colours only and keep it)
+    after = list(render_pictures(remaining, scene.cameras, run.sh_degree, device, alpha=config.seen_colour))
     effects, diffuse = None, 0
     if config.effects:
         others = other_objects(run, remaining, obj.id if obj else None)

@@ -105,11 +105,15 @@ def seen_ring(site: Site, shown: Samples) -> np.ndarray | None:
     the Gaussians counts the ones under the surface that no view sees, and their colours are whatever training left
     (GPU runs at 3067ef9 and 74fef3e: the base colours' mean 0.04 to 0.08 off gt/'s ring in some channel on six of
     seven scenes, wallmount_s101's pale pink plaque; tiny CPU livingroom_s8: R +0.023 against the views' -0.002)."""
-    height = site.frame.height(shown.points)
     across = np.linalg.norm(site.frame.flat(shown.points) - site.centre, axis=1)
-    ring = ((np.abs(height) < SEEN_BAND * site.radius) & (across > RING[0] * site.radius)
-            & (across < RING[1] * site.radius))
+    ring = in_ring(site.frame.height(shown.points), across, site.radius)
     return trimmed_mean(shown.colors[ring]) if ring.sum() >= MIN_SEEN else None
+
+
+def in_ring(height: np.ndarray, across: np.ndarray, radius: float) -> np.ndarray:
+    """(P,) whether points `height` off the plane and `across` it from the footprint's centre lie in the ring
+    (RING x the footprint's `radius`) within SEEN_BAND x it of the plane: where a view's sample shows the support."""
+    return (np.abs(height) < SEEN_BAND * radius) & (across > RING[0] * radius) & (across < RING[1] * radius)
 
 
 def find_unbuilt(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, float] | None,

@@ -28,14 +28,16 @@ class ViewPicture:
     depth: np.ndarray | None  # (H, W) float32 z-depth of the surface shown (engine.render.surface_depth), inf
     # where alpha < 1/2; None when not asked for
     labels: np.ndarray | None  # (H, W) uint8 argmax class, with a classifier
-    alpha: np.ndarray | None = None  # (H, W) float32 blended opacity: where the surface shown is whole
+    alpha: np.ndarray | None = None  # (H, W) float32 blended opacity (where the surface shown is whole), when asked
 
 
 @torch.no_grad()
 def render_pictures(gaussians: Gaussians, cameras: list[Camera], sh_degree: int, device: torch.device,
-                    classifier: torch.nn.Linear | None = None, depth: bool = True) -> Iterator[ViewPicture]:
+                    classifier: torch.nn.Linear | None = None, depth: bool = True,
+                    alpha: bool = False) -> Iterator[ViewPicture]:
     """One ViewPicture per camera, in order; the Gaussians are moved to `device` once. The surface depth
-    costs one more rasterization per view: `depth=False` skips it."""
+    costs one more rasterization per view: `depth=False` skips it. `alpha=True` keeps the blended opacity too (a
+    float a pixel: a capture's views in removal would hold hundreds of MB of it unasked)."""
     on_device = {k: v.to(device) for k, v in gaussians.items()}
     classifier = classifier.to(device) if classifier is not None else None
     for camera in cameras:
@@ -44,7 +46,8 @@ def render_pictures(gaussians: Gaussians, cameras: list[Camera], sh_degree: int,
         rgb = (out.rgb.clamp(0, 1) * 255 + 0.5).to(torch.uint8)
         labels = out.logits.argmax(-1).to(torch.uint8).cpu().numpy() if out.logits is not None else None
         surface = surface_depth(on_device, tensors, default_backend(device))[0].float().cpu().numpy() if depth else None
-        yield ViewPicture(rgb=rgb.cpu().numpy(), depth=surface, labels=labels, alpha=out.alpha.float().cpu().numpy())
+        opacity = out.alpha.float().cpu().numpy() if alpha else None
+        yield ViewPicture(rgb=rgb.cpu().numpy(), depth=surface, labels=labels, alpha=opacity)
 
 
 def render_depths(gaussians: Gaussians, cameras: list[Camera], sh_degree: int, device: torch.device, stage: str

@@ -533,6 +533,7 @@ def test_given_the_views_the_patch_takes_the_colour_they_show_round_the_object_n
     by_gaussians = find_unbuilt(built, core, plane, EffectsConfig())
     assert np.abs(colors_of(by_gaussians)[0] - ring_truth).max() > 0.1  # the hidden grey layer in the mean
 
+
 def test_other_objects_bases_keep_their_own_colours_in_the_contact_shade_and_the_crater():
     """Another object stands in the darkened ring beside the ball, its base dark (its own colour and contact
     shadow), and part of the sunk crater under the ball belongs to it by identity: neither is brightened or
