@@ -1,7 +1,8 @@
 """The support's colour in the ring just past a removed object's footprint (underside.in_ring: 1 to 1.5 footprint
 radii, within a tenth of one of the support's plane), read five ways, against the colour removal gave the crater
 and the patch it laid (removal.json's effects.underside.colour):
-  truth    gt/ (the scene without the object) at its test views, where gt/'s depth puts a pixel in the ring;
+  truth    gt/ (the scene without the object) at its test views, where gt/'s depth puts a pixel in the ring (a scene
+           packed by pack_scene.py has no gt_depth/: NaN, and a line that says so);
   removed  the removed scene's renders of the test views, where their depth puts a pixel in the ring;
   base     the trained run's Gaussians in the ring, their base colour (the SH DC term: what removal reads);
   seen     the same Gaussians as the training views render them (every SH band, averaged over the views);
@@ -88,6 +89,8 @@ def main(argv: list[str]) -> None:
             "seen": trimmed_mean(seen_colours(gaussians, picked, [scene.cameras[i] for i in scene.train], sh_degree))}
     print(f"{run}: ring of {int(picked.sum())} Gaussians, mean opacity {opacity.mean():.3f}, "
           f"laid {report.get('laid')}")
+    if not truth:  # benchmarks/pack_scene.py leaves gt_depth/ out of what it sends to the GPU machine
+        print(f"  truth: {args[1]} has no gt_depth/ for its test views: run this again on the unpacked scene")
     for what, colour in rows.items():
         print(f"  {what:10s} {np.round(colour, 3)}  minus truth {np.round(colour - rows['truth'], 3)}")
 

@@ -14,12 +14,14 @@ view-dependent terms. On the plane the support was built where views saw it well
 Why a mean and not the median: a flat colour scores best at the texture's mean, and on wood of light and dark
 stripes the per-channel median is the majority stripe's colour (the GPU livingroom's crater G +0.15 over gt/'s);
 the mean gave that scene's unfilled hole 19.11 -> 21.41 dB (docs/BENCHMARKS.md, "Removal and its effects").
-With `remove --seen-colour` the ring's colour is what the training views render of it instead (seen_ring).
+By default (`remove --seen-colour`) the ring's colour is what the training views render of it instead (seen_ring):
+at full size the base colours' mean counts Gaussians under the surface that no view sees, and the GPU judges found
+it off gt/'s ring by up to 0.154 (a pink patch on a wall) where the views' colour was within 0.034.
 
 Where the views built no support at all under the object (a toy on a cloth: the cloth under it was hidden in most
 views, so after removal the render sees through to the table below), a patch is laid (`find_unbuilt`): one flat
 Gaussian of the same colour on the plane in each cell of the object's footprint that the support's Gaussians cover
-less than half, so every view shows the support there rather than what lies beneath it.
+less than `unbuilt_cover` (0.9), so every view shows the support there rather than what lies beneath it.
 """
 
 from __future__ import annotations

@@ -532,6 +532,7 @@ def test_given_the_views_the_patch_takes_the_colour_they_show_round_the_object_n
     assert given is not None and np.all(np.abs(colors_of(given)[0] - ring_truth) < 0.05)
     by_gaussians = find_unbuilt(built, core, plane, EffectsConfig())
     assert np.abs(colors_of(by_gaussians)[0] - ring_truth).max() > 0.1  # the hidden grey layer in the mean
+    assert EffectsConfig().seen_colour  # and `remove` gives it the views' samples unless told --no-seen-colour
 
 
 def test_other_objects_bases_keep_their_own_colours_in_the_contact_shade_and_the_crater():
