@@ -33,7 +33,7 @@ from engine.inpaint.registry import create
 from engine.io.masks import dilate
 from engine.metrics.image_metrics import masked_psnr
 
-OURS = ("telea", "navier-stokes", "fsr", "exemplar", "coherence")
+OURS = ("telea", "navier-stokes", "fsr", "exemplar", "coherence", "coherence-smooth")
 MIN_HOLE_PX = 20  # views with a smaller true hole are not scored
 RING_PX = 6  # the plane is fitted to the truth's depth this far around the training views' true holes
 PLANE_TOL = 0.03  # share of the depth a ring point may lie off the plane (engine.edit.support_plane)
