@@ -74,7 +74,7 @@ def coherence_fill(image: np.ndarray, mask: np.ndarray, low_pass: float = 0.0) -
     mask over every pixel leaves nothing to carry, and the image is returned as it is. The straight edges that
     cross the hole (engine.inpaint.straight_edges) are drawn through it: each side of them is filled from its own
     side of the border only, and what no side's border reaches from the whole border after. With `low_pass`
-    (px) the colours carried are the known pixels' Gaussian mean at that sigma (the caller keeps the known ones)."""
+    (px) the colours carried are the known pixels' Gaussian mean at that sigma; the known pixels stay as they are."""
     known = ~mask
     if not known.any():
         return image.astype(np.float32)
@@ -89,7 +89,7 @@ def coherence_fill(image: np.ndarray, mask: np.ndarray, low_pass: float = 0.0) -
     for label in np.unique(labels[mask]) if lines else []:
         done |= _transport(work, mask & (labels == label), known & (labels == label), direction)
     _transport(work, mask & ~done, known | done, direction)
-    return work
+    return np.where(mask[..., None], work, image).astype(np.float32)
 
 
 def _transport(work: np.ndarray, fill: np.ndarray, readable: np.ndarray,
@@ -131,17 +131,16 @@ class CoherenceTransport(Inpainter):
 
     summary = "coherence transport: smooth fill from the border along the image's edges"
     max_hole_px = 20_000
+    low_pass: float = 0.0  # px: the sigma of the Gaussian mean of the known colours carried in (0: as they are)
 
     def parallel_views(self) -> str:
         return "threads"
-
-    low_pass: float = 0.0  # px: the sigma of the Gaussian mean of the known colours carried in (0: as they are)
 
     def inpaint_rgb(self, image: np.ndarray, mask: np.ndarray, prompt: str | None) -> np.ndarray:
         rows, cols = grown_box(mask, lambda extent: MARGIN)
         out = image.copy()
         filled = coherence_fill(image[rows, cols].astype(np.float32), mask[rows, cols], self.low_pass)
-        out[rows, cols] = np.where(mask[rows, cols, None], np.clip(np.rint(filled), 0, 255), image[rows, cols])
+        out[rows, cols] = np.clip(np.rint(filled), 0, 255).astype(np.uint8)
         return out
 
 
