@@ -151,8 +151,10 @@ class SmoothCoherenceTransport(CoherenceTransport):
     not drawn into the hole as they are. Why: on a plain wall the fill scored below the flat patch `remove` lays
     (GPU wallmount_s8 at 4350d6a, Ref-coherence 34.26 dB unbiased against the patch's 35.19). 2D on six tuning
     scenes, grown 13 px: 25.18 dB against coherence's 25.05 (sigma 3: 25.39, but the livingroom's falls further;
-    `docs/results/cpu/fill_2d.json` coherence_grow_13). Not the default: as Ref's fill on tiny CPU runs +0.48 dB on
-    wallmount_s8, -0.60/+0.13/-0.17 on the default-path scene (`decisions/cpu_tiny_runs.json`); a GPU judge owed."""
+    `docs/results/cpu/fill_2d.json` coherence_grow_13). Not the default: as Ref's fill on tiny CPU runs of the four
+    tuning scenes, on the same removals, -0.08 / -1.34 / -0.33 / +0.55 dB (statue_s55, tabletop_s8, livingroom_s8,
+    wallmount_s8; the tabletop's dark contact rim spread into the hole), -0.60/+0.13/-0.17 on the default-path scene
+    (`decisions/cpu_tiny_runs.json`, coherence_smooth_1314729)."""
 
     summary = "coherence transport of the border's colours low-passed: no pixel grain carried into the hole"
     low_pass = 1.5
