@@ -34,7 +34,7 @@ class Progress:
             return
         record = {"stage": self.stage, "step": step, "total": self.total,
                   "seconds": round(time.monotonic() - self.start, 3), **extra}
-        print(json.dumps(record), flush=True)
+        _line(json.dumps(record))
 
     def close(self) -> None:
         if self.bar is not None:
@@ -49,4 +49,15 @@ def say(text: str) -> None:
 def emit(event: str, **fields: object) -> None:
     """One non-progress JSON line (e.g. {"event": "done", "out": ...}) for the add-on; silent on a TTY."""
     if json_mode():
-        print(json.dumps({"event": event, **fields}), flush=True)
+        _line(json.dumps({"event": event, **fields}))
+
+
+def _line(text: str) -> None:
+    """One JSON line on stdout; once its reader has gone (Blender closed, a `| head`), none. Why: the work goes on
+    to write its outputs (a cancel its checkpoint) instead of ending as an internal error at its next line."""
+    try:
+        print(text, flush=True)
+    except BrokenPipeError:
+        devnull = os.open(os.devnull, os.O_WRONLY)  # the buffered line and every later one go nowhere
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)

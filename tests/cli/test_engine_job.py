@@ -3,6 +3,7 @@ while the engine runs, Esc's cancel stops training with a checkpoint, and failur
 
 from __future__ import annotations
 
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -37,3 +38,18 @@ def test_a_failing_job_reports_the_engines_one_line_error(tmp_path: Path, engine
     with pytest.raises(EngineError, match="nothing"):
         job.result()
     assert job.finished
+
+
+def test_a_job_whose_reader_goes_away_still_writes_its_outputs(living_scene: Path, tmp_path: Path):
+    """Blender closed (or a `| head`) while the engine runs: its progress lines have nowhere to go, and the
+    training still ends with its point cloud and metrics, not as an internal error."""
+    run = tmp_path / "run"
+    proc = subprocess.Popen([sys.executable, "-m", "engine", "train", "--scene", str(living_scene), "--out", str(run),
+                             "--preset", "tiny", "--device", "cpu", "--steps", "30", "--log-every", "1"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert proc.stdout is not None
+    proc.stdout.readline()  # it has started talking
+    proc.stdout.close()  # and nobody listens any more
+    _, errors = proc.communicate(timeout=600)
+    assert proc.returncode == 0, errors[-800:]
+    assert (run / "point_cloud.ply").is_file() and (run / "metrics.json").is_file()
