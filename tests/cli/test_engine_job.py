@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 
 from addon.engine_call import EngineError, EngineJob
+from tests.conftest import REPO
 
 
 @pytest.fixture
@@ -46,7 +47,7 @@ def test_a_job_whose_reader_goes_away_still_writes_its_outputs(living_scene: Pat
     run = tmp_path / "run"
     proc = subprocess.Popen([sys.executable, "-m", "engine", "train", "--scene", str(living_scene), "--out", str(run),
                              "--preset", "tiny", "--device", "cpu", "--steps", "30", "--log-every", "1"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=REPO)
     assert proc.stdout is not None
     proc.stdout.readline()  # it has started talking
     proc.stdout.close()  # and nobody listens any more
