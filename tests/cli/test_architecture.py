@@ -101,6 +101,27 @@ def test_the_readme_table_is_the_registry():
         "README's plug-in table is stale: paste `python -m engine plugins --markdown` into it"
 
 
+
+def test_make_demo_completes_only_from_views_it_inpainted():
+    """`make demo`, the README's main job, runs each `complete` on an inpainter an `inpaint` before it wrote (no
+    --inpainter: the default). Why: its FT step asked for telea's views after the default fill became coherence,
+    and the main job stopped with "inpainted/telea missing" on a fresh machine."""
+    from engine.base.defaults import DEFAULT_INPAINTER
+
+    recipe = re.search(r"^demo:.*?\n((?:\t.*\n)+)", (REPO / "Makefile").read_text(), re.M)
+    assert recipe, "Makefile has no demo recipe"
+    written: set[str] = set()
+    for line in recipe.group(1).splitlines():
+        stage = re.search(r"-m engine (inpaint|complete)\b", line)
+        if stage:
+            named = re.search(r"--inpainter (\S+)", line)
+            inpainter = named.group(1) if named else DEFAULT_INPAINTER
+            if stage.group(1) == "inpaint":
+                written.add(inpainter)
+            else:
+                assert inpainter in written, f"make demo completes from {inpainter}'s views, which it never inpaints"
+
+
 DOCS = REPO / "docs"
 RECORD_SUFFIXES = {".json", ".csv", ".md", ".txt", ".png", ".jpg"}
 
