@@ -101,7 +101,6 @@ def test_the_readme_table_is_the_registry():
         "README's plug-in table is stale: paste `python -m engine plugins --markdown` into it"
 
 
-
 def test_make_demo_completes_only_from_views_it_inpainted():
     """`make demo`, the README's main job, runs each `complete` on an inpainter an `inpaint` before it wrote (no
     --inpainter: the default). Why: its FT step asked for telea's views after the default fill became coherence,
