@@ -116,34 +116,33 @@ def _sub_tile_lists(mean2d: torch.Tensor, conics: torch.Tensor, opacities: torch
                     z: torch.Tensor, width: int, height: int) -> tuple[list[torch.Tensor], list[tuple[int, int]]]:
     """Each SUB px sub-tile's Gaussians front to back and its top-left corner (x0, y0), those with none left out:
     of its 16 px tile's list as gsplat makes it (the projected box, `radii`, overlaps the tile), the ones whose
-    alpha can reach 1/255 in the sub-tile (_reach)."""
-    tiles_x, tiles_y = math.ceil(width / TILE), math.ceil(height / TILE)
-    mx, my = mean2d.unbind(-1)
+    alpha can reach 1/255 in the sub-tile (_reach). Each Gaussian's sub-tiles are a rectangle, so the lists come
+    from one sort of (sub-tile, Gaussian) pairs rather than a pass over every Gaussian for each tile."""
+    across, down = math.ceil(width / SUB), math.ceil(height / SUB)
+    per_tile = TILE // SUB
     rx, ry = radii[:, 0].float(), radii[:, 1].float()
-    tx0 = torch.floor((mx - rx) / TILE).clamp(0, tiles_x)
-    tx1 = torch.ceil((mx + rx) / TILE).clamp(0, tiles_x)
-    ty0 = torch.floor((my - ry) / TILE).clamp(0, tiles_y)
-    ty1 = torch.ceil((my + ry) / TILE).clamp(0, tiles_y)
-    valid = (radii > 0).any(-1)
     low, high = _reach(mean2d, conics, opacities)
+    first, last = [], []  # each Gaussian's sub-tile columns, then rows: [first, last)
+    for axis, r, size, count in ((0, rx, width, across), (1, ry, height, down)):
+        tiles = math.ceil(size / TILE)
+        tile0 = torch.floor((mean2d[:, axis] - r) / TILE).clamp(0, tiles)
+        tile1 = torch.ceil((mean2d[:, axis] + r) / TILE).clamp(0, tiles)
+        first.append(torch.maximum(per_tile * tile0, torch.floor(low[:, axis] / SUB)).clamp(0, count).long())
+        last.append(torch.minimum(per_tile * tile1, torch.ceil(high[:, axis] / SUB)).clamp(0, count).long())
+    wide, tall = (last[0] - first[0]).clamp_min(0), (last[1] - first[1]).clamp_min(0)
     # stable: a clone shares its parent's depth, and an unstable sort made runs differ (which of the two
     # gets the front's gradient)
     order = torch.argsort(z, stable=True)
-    lists, corners = [], []
-    for ty in range(tiles_y):
-        for tx in range(tiles_x):
-            hit = valid & (tx0 <= tx) & (tx < tx1) & (ty0 <= ty) & (ty < ty1)
-            ids = order[hit[order]]
-            if ids.numel() == 0:
-                continue
-            lo, hi = low[ids], high[ids]
-            for x0 in range(tx * TILE, min((tx + 1) * TILE, width), SUB):
-                for y0 in range(ty * TILE, min((ty + 1) * TILE, height), SUB):
-                    sub = ids[(lo[:, 0] < x0 + SUB) & (hi[:, 0] > x0) & (lo[:, 1] < y0 + SUB) & (hi[:, 1] > y0)]
-                    if sub.numel():
-                        lists.append(sub.cpu())
-                        corners.append((x0, y0))
-    return lists, corners
+    order = order[(radii > 0).any(-1)[order] & (wide * tall > 0)[order]]
+    cells = (wide * tall)[order]
+    ids = order.repeat_interleave(cells)
+    step = torch.arange(len(ids)) - (torch.cumsum(cells, 0) - cells).repeat_interleave(cells)
+    column = first[0][ids] + step % wide[ids]
+    row = first[1][ids] + torch.div(step, wide[ids], rounding_mode="floor")
+    keys, where = torch.sort(row * across + column, stable=True)  # front to back within each sub-tile
+    keys, counts = torch.unique_consecutive(keys, return_counts=True)
+    lists = list(ids[where].cpu().split(counts.tolist()))
+    return lists, [(int(k) % across * SUB, int(k) // across * SUB) for k in keys]
 
 
 def _reach(mean2d: torch.Tensor, conics: torch.Tensor, opacities: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
