@@ -136,13 +136,13 @@ def _sub_tile_lists(mean2d: torch.Tensor, conics: torch.Tensor, opacities: torch
     order = order[(radii > 0).any(-1)[order] & (wide * tall > 0)[order]]
     cells = (wide * tall)[order]
     ids = order.repeat_interleave(cells)
-    step = torch.arange(len(ids)) - (torch.cumsum(cells, 0) - cells).repeat_interleave(cells)
+    step = torch.arange(len(ids), device=ids.device) - (torch.cumsum(cells, 0) - cells).repeat_interleave(cells)
     column = first[0][ids] + step % wide[ids]
     row = first[1][ids] + torch.div(step, wide[ids], rounding_mode="floor")
     keys, where = torch.sort(row * across + column, stable=True)  # front to back within each sub-tile
     keys, counts = torch.unique_consecutive(keys, return_counts=True)
     lists = list(ids[where].cpu().split(counts.tolist()))
-    return lists, [(int(k) % across * SUB, int(k) // across * SUB) for k in keys]
+    return lists, [(k % across * SUB, k // across * SUB) for k in keys.tolist()]
 
 
 def _reach(mean2d: torch.Tensor, conics: torch.Tensor, opacities: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
