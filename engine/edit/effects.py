@@ -57,6 +57,8 @@ MAX_RESIDUAL = 4.0 ** 2.4  # each later relight's, at most (4 in sRGB values)
 # ring LIT_RING wide. Why a gap: a shadow's edge fades (a sun's penumbra, a render's blur), and lit samples next to
 # it made the gain 0.66-0.93 of the truth's on tiny CPU runs (0.92-1.03 with the gap)
 LIT_GAP, LIT_RING = 2, 3
+SOFT_GROW = 2  # soft_edge: the cast grown by this many cells (its penumbra), not one
+SOFT_DEEP = 0.9  # soft_edge: a sample this deep in the shadow (0 lit, 1 its median darkness) judges the residual
 BAND_CONTRAST = 1.5  # a line past the object's sunlit side this dark (x min_contrast, mean) is a band: a checker
 # of two tones averages ~0.6 x min_contrast there, a shadow 1.7-3 x
 
@@ -81,6 +83,10 @@ class EffectsConfig:
     # -> 0.029 (tabletop_s8), 0.070 -> 0.021 (livingroom_s8), 0.154 -> 0.015 (wallmount_s8, a pink patch); outside the
     # true hole 38.59 -> 38.56, 26.90 -> 26.92, 32.80 -> 32.64, 37.13 -> 41.05 (docs/BENCHMARKS.md, Decisions)
     seen_colour: bool = True
+    # each shadowed Gaussian relit by how dark its nearest views' samples are (the shadow's soft edge in part), not
+    # by the share of them past min_contrast (a penumbra relit fully or not at all: a thin light and dark line left
+    # along a sun's hard shadow's outline, held-out statue_s101 at 1169aef)
+    soft_edge: bool = False
 
 
 @dataclass
@@ -226,7 +232,7 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     if not score - elsewhere >= config.min_contrast:
         return ShadowSearch(None, SURROUNDED, evidence)
     cast = grid.raster(frame.cast(obj, light), site.spacing)
-    cast = grown(cast, 1)
+    cast = grown(cast, SOFT_GROW if config.soft_edge else 1)  # soft: its penumbra past the cast, lit ones left at 0
     shadowed = around(means, config.band_below, site.reach_up(remaining))
     shadowed[shadowed] = grid.cells(cast, frame.cast(means[shadowed], light))
     dark = inside & judged & (lit_level - log_y > config.min_contrast)
@@ -244,7 +250,16 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     colors = srgb_to_linear(samples.colors[pick])  # a shadow scales light, and light adds up in linear values
     gain = np.clip((trimmed_mean(colors[lit_edge]) + LINEAR_EPS) / (trimmed_mean(colors[dark]) + LINEAR_EPS), 1.0,
                    MAX_GAIN) if lit_edge.sum() >= 20 and dark.sum() >= 20 else np.ones(3)
-    return ShadowSearch(Shadow(shadowed=shadowed, darkness=_darkness(means[shadowed], points, dark), gain=gain,
+    if config.soft_edge:
+        # the levels the gain was measured between: the lit edge past the penumbra, the shadow's dark samples; a
+        # texture's darker patches on the lit support are not shadow (half min_contrast of slack)
+        lit, deep = np.median(log_y[lit_edge]) - 0.5 * config.min_contrast, np.median(log_y[dark])
+        darkness = _soft_darkness(means[shadowed], points, log_y, lit, lit - deep, float(np.mean(gain)))
+        # the residual's judges: samples deep in it, which a full relight should brighten by the whole gain
+        dark &= _soft_darkness(points, points, log_y, lit, lit - deep) >= SOFT_DEEP
+    else:
+        darkness = _darkness(means[shadowed], points, dark)
+    return ShadowSearch(Shadow(shadowed=shadowed, darkness=darkness, gain=gain,
                                elevation=float(best[0]), azimuth=float(best[1] % 360), contrast=score,
                                pick=pick, dark=dark & ~samples_theirs, lit=lit_edge, theirs=theirs),
                         "found", evidence)
@@ -466,3 +481,19 @@ def _darkness(gaussians: np.ndarray, points: np.ndarray, dark: np.ndarray, k: in
     _, ids = knn(torch.as_tensor(gaussians, dtype=torch.float32), torch.as_tensor(points, dtype=torch.float32), k)
     share = dark[ids.numpy()].mean(axis=1)
     return np.clip((share - 0.2) / 0.5, 0.0, 1.0)
+
+
+def _soft_darkness(at: np.ndarray, points: np.ndarray, log_y: np.ndarray, lit_level: float, contrast: float,
+                   gain: float | None = None, k: int = 8) -> np.ndarray:
+    """(Q,) how far into the shadow each of `at` lies, from the mean log-luminance of its k nearest view samples
+    (`points`, `log_y`): 0 at the lit level, 1 at the shadow's median `contrast` below it. Averaged before it is
+    clipped, so a texture's grain neither lights the shadow nor darkens the lit support around it. In a penumbra
+    the sun is partly hidden, and the light a point lacks is the gain to that power (its log darkening over the
+    full one): with the mean `gain`, that is returned as the share d for relight's 1 + d (gain - 1)."""
+    if len(at) == 0 or len(points) < k:
+        return np.zeros(len(at))
+    _, ids = knn(torch.as_tensor(at, dtype=torch.float32), torch.as_tensor(points, dtype=torch.float32), k)
+    depth = np.clip((lit_level - log_y[ids.numpy()].mean(axis=1)) / max(contrast, 1e-6), 0.0, 1.0)
+    if gain is None or gain <= 1.0 + 1e-6:
+        return depth
+    return (gain ** depth - 1.0) / (gain - 1.0)

@@ -96,6 +96,7 @@ class RemovalConfig:
     contact_most: float = EffectsConfig.contact_most  # the darkening's largest gain (sRGB); 1 or less: not relit
     unbuilt_cover: float = EffectsConfig.unbuilt_cover  # support cover (alpha) under which a patch of it is laid
     seen_colour: bool = EffectsConfig.seen_colour  # the patch's colour from the views' renders of the support round it
+    soft_edge: bool = EffectsConfig.soft_edge  # relight the cast shadow's penumbra by how dark it is, not all or none
     out: str = ""  # default RUN/removed
     scene: str = ""  # default: the scene named in the run's config.json
     device: str = "auto"  # auto | cuda | cpu
@@ -202,7 +203,8 @@ def run_removal(config: RemovalConfig) -> dict:
         remaining, after, effects = _undo_effects(run, remaining, core, plane, regions, after, device, others,
                                                   EffectsConfig(contact_most=config.contact_most,
                                                                 unbuilt_cover=config.unbuilt_cover,
-                                                                seen_colour=config.seen_colour))
+                                                                seen_colour=config.seen_colour,
+                                                                soft_edge=config.soft_edge))
         # last: the support the object hid from many views loses the view-dependence it guessed there (before
         # the effects it changed what they read: tiny CPU statue_s6's unfilled hole -0.19 dB)
         others = np.concatenate([others, np.zeros(effects.laid, bool)])  # the patch laid is support
