@@ -232,6 +232,7 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
     if not score - elsewhere >= config.min_contrast:
         return ShadowSearch(None, SURROUNDED, evidence)
     cast = grid.raster(frame.cast(obj, light), site.spacing)
+    core = ~grown(~cast, SOFT_GROW)  # soft_edge: the shadow's inside, clear of its penumbra
     cast = grown(cast, SOFT_GROW if config.soft_edge else 1)  # soft: its penumbra past the cast, lit ones left at 0
     shadowed = around(means, config.band_below, site.reach_up(remaining))
     shadowed[shadowed] = grid.cells(cast, frame.cast(means[shadowed], light))
@@ -255,6 +256,10 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
         # texture's darker patches on the lit support are not shadow (half min_contrast of slack)
         lit, deep = np.median(log_y[lit_edge]) - 0.5 * config.min_contrast, np.median(log_y[dark])
         darkness = _soft_darkness(means[shadowed], points, log_y, lit, lit - deep, float(np.mean(gain)))
+        # inside, the share of dark samples around: a texture's light grain there is as shadowed as the rest (by
+        # their mean darkness, GPU statue_s84's brighter half came out 0.89 of gt/'s)
+        inner = grid.cells(core, frame.cast(means[shadowed], light))
+        darkness[inner] = _darkness(means[shadowed][inner], points, dark)
         # the residual's judges: samples deep in it, which a full relight should brighten by the whole gain
         dark &= _soft_darkness(points, points, log_y, lit, lit - deep) >= SOFT_DEEP
     else:
