@@ -24,8 +24,10 @@ shadow scales every albedo under it by the same factor, so the texture it darken
    where the darkness runs on past both ends of the object's shadow (passing_shadows: a tree out of view).
 4. Relit: multiplied, colour and view-dependent terms alike, by the lit/shadow ratio of the views' samples
    per channel (the lit ones past the shadow's soft edge), each Gaussian by the share of its nearest samples that
-   are dark; then, measured again on the relit renders, by what the dark samples still lack of the gain
-   (residual_gain), in rounds until they lack under 2% (engine.edit.removal._relit_to_gain).
+   are dark (with `soft_edge`, near the cast's outline by how dark they are: a sun's penumbra relit in part, not
+   all or nothing; GPU judges in docs/BENCHMARKS.md, "Removal and its effects"); then, measured again on the
+   relit renders, by what the dark samples still lack of the gain (residual_gain), in rounds until they lack under
+   2% (engine.edit.removal._relit_to_gain).
 
 Per view, the effect mask is where the shadowed Gaussians give at least half of a pixel's opacity. Measured
 in docs/BENCHMARKS.md ("Removal and its effects").
