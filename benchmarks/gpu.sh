@@ -41,6 +41,8 @@
 #   judge SCENE [REMOVE FLAGS]     base run, remove (with the flags), holes and a variant of them (JUDGE_VARIANT),
 #                                  each inpainted (JUDGE_INPAINTER) and completed by Ref; scored by removal_score.py,
 #                                  ring_colour.py, hole_error.py and leftovers.py            ("Removal and its effects")
+#   judge-pair SCENE FLAGS         judge at the defaults, then with the remove FLAGS on the same base run (records
+#                                  of the second under judge_flags/): a removal flag judged against the default
 #   matrix SCENE... [-- ARGS]      benchmarks/matrix.py's whole matrix (its own defaults, ARGS added)   ("Completion")
 #   heldout SCENE... [-- ARGS]     the held-out table: one matrix process per scene, two a GPU (HELDOUT_CELLS's cells,
 #                                  ARGS added), then their tables merged into $OUT/heldout/       ("Held-out table")
@@ -113,7 +115,8 @@ out() { local d=${RESULTS:-${OUT:-$G/out}}/$1; mkdir -p $d; echo $d; }
 judge() {  # $1 scene, the rest flags for `engine remove`; JUDGE_INPAINTER (telea), and a second set of hole masks
   # made with JUDGE_VARIANT's `holes` flags (unset: --no-see-through; empty: the same masks) inpainted with
   # JUDGE_DILATE's `inpaint --dilate` (0), each inpainted and completed with Ref
-  local S=$(scene $1) J=$G/judge/$1 D=$(out judge) I=${JUDGE_INPAINTER:-telea} V=${JUDGE_VARIANT---no-see-through}
+  local S=$(scene $1) J=$G/judge/$1 D=$(out judge${JUDGE_TAG:+_$JUDGE_TAG}) I=${JUDGE_INPAINTER:-telea}
+  local V=${JUDGE_VARIANT---no-see-through}
   local W=${JUDGE_DILATE:-0}
   shift; mkdir -p $J
   local target=$(python3 -c "import json,sys; print(next(o['name'] for o in json.load(open(sys.argv[1])) if o.get('target')))" $S/masks/objects.json)
@@ -157,6 +160,7 @@ case $name in
                 { tail -5 $G/seg_$s.log; exit 1; }; runs+=($G/seg/$s); done
             python3 benchmarks/segments.py --run "${runs[@]}" --results $(out segments);;
   judge) judge "$@";;
+  judge-pair) judge $1 && JUDGE_TAG=flags judge "$@";;  # same base run: at the defaults, then with the flags
   inpaint) python3 benchmarks/inpaint_speed.py $1 $(out inpaint) ${2:-16};;
   capture) for p in "$@"; do n=$(basename $(dirname $p)); [ "$(basename $p)" = images ] || n=$(basename $p)
              rm -rf $G/cap/$n; python3 benchmarks/capture_path.py $p $G/cap/$n $(out capture) &&
