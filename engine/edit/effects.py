@@ -235,9 +235,11 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
         return ShadowSearch(None, SURROUNDED, evidence)
     cast = grid.raster(frame.cast(obj, light), site.spacing)
     core = ~grown(~cast, SOFT_GROW)  # soft_edge: the shadow's inside, clear of its penumbra
-    cast = grown(cast, SOFT_GROW if config.soft_edge else 1)  # soft: its penumbra past the cast, lit ones left at 0
+    # soft: the Gaussians relit reach its penumbra past the cast (lit ones left at 0); all else reads the cast as before
+    relit = grown(cast, SOFT_GROW if config.soft_edge else 1)
+    cast = grown(cast, 1)
     shadowed = around(means, config.band_below, site.reach_up(remaining))
-    shadowed[shadowed] = grid.cells(cast, frame.cast(means[shadowed], light))
+    shadowed[shadowed] = grid.cells(relit, frame.cast(means[shadowed], light))
     dark = inside & judged & (lit_level - log_y > config.min_contrast)
     theirs, samples_theirs = their_shadows(site, light, means, others, points)
     under = footprint | grid.raster(frame.flat(obj_sample), apart)
