@@ -259,11 +259,13 @@ def find_shadow(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, 
         # the levels the gain was measured between: the lit edge past the penumbra, the shadow's dark samples; a
         # texture's darker patches on the lit support are not shadow (half min_contrast of slack)
         lit, deep = np.median(log_y[lit_edge]) - 0.5 * config.min_contrast, np.median(log_y[dark])
-        darkness = _soft_darkness(means[shadowed], points, log_y, lit, lit - deep, float(np.mean(gain)))
+        at = means[shadowed]
         # inside, the share of dark samples around: a texture's light grain there is as shadowed as the rest (by
-        # their mean darkness, GPU statue_s84's brighter half came out 0.89 of gt/'s)
-        inner = grid.cells(core, frame.cast(means[shadowed], light))
-        darkness[inner] = _darkness(means[shadowed][inner], points, dark)
+        # their mean darkness, GPU statue_s84's brighter half came out 0.89 of gt/'s); near the outline, soft
+        inner = grid.cells(core, frame.cast(at, light))
+        darkness = np.empty(len(at))
+        darkness[inner] = _darkness(at[inner], points, dark)
+        darkness[~inner] = _soft_darkness(at[~inner], points, log_y, lit, lit - deep, float(np.mean(gain)))
         # the residual's judges: samples deep in it, which a full relight should brighten by the whole gain
         dark &= _soft_darkness(points, points, log_y, lit, lit - deep) >= SOFT_DEEP
     else:
