@@ -113,8 +113,8 @@ flags_tag() { [ -z "$TRAIN_FLAGS" ] || echo _$(echo "$TRAIN_FLAGS" | tr -c 'A-Za
 out() { local d=${RESULTS:-${OUT:-$G/out}}/$1; mkdir -p $d; echo $d; }
 
 judge() {  # $1 scene, the rest flags for `engine remove`; JUDGE_INPAINTER (telea), and a second set of hole masks
-  # made with JUDGE_VARIANT's `holes` flags (unset: --no-see-through; empty: the same masks) inpainted with
-  # JUDGE_DILATE's `inpaint --dilate` (0), each inpainted and completed with Ref
+  # made with JUDGE_VARIANT's `holes` flags (unset: --no-see-through; empty: the same masks; none: no second set, for
+  # half the device time) inpainted with JUDGE_DILATE's `inpaint --dilate` (0), each inpainted and completed with Ref
   local S=$(scene $1) J=$G/judge/$1 D=$(out judge${JUDGE_TAG:+_$JUDGE_TAG}) I=${JUDGE_INPAINTER:-telea}
   local V=${JUDGE_VARIANT---no-see-through}
   local W=${JUDGE_DILATE:-0}
@@ -124,23 +124,26 @@ judge() {  # $1 scene, the rest flags for `engine remove`; JUDGE_INPAINTER (tele
   rm -rf $J/run/removed $J/run/holes* $J/run/inpainted* $J/run/complete*
   local name=$(basename $S) R=$J/run
   { python3 -m engine remove --run $R --object "$target" --device cuda "$@" && python3 -m engine holes --run $R &&
-    python3 -m engine holes --run $R --out $R/holes_variant $V &&
     python3 -m engine inpaint --run $R --inpainter $I &&
-    python3 -m engine inpaint --run $R --inpainter $I --holes $R/holes_variant --out $R/inpainted_variant --dilate $W &&
     python3 -m engine complete --run $R --method reference --inpainter $I --device cuda &&
+    { [ "$V" = none ] || { python3 -m engine holes --run $R --out $R/holes_variant $V &&
+    python3 -m engine inpaint --run $R --inpainter $I --holes $R/holes_variant --out $R/inpainted_variant --dilate $W &&
     python3 -m engine complete --run $R --method reference --inpainter $I --device cuda --inpainted $R/inpainted_variant \
-      --out $R/complete_variant; } > $J/chain.log 2>&1 || { tail -5 $J/chain.log; return 1; }
-  local ref=$(ls -d $R/complete/Ref-*) var=$R/complete_variant
+      --out $R/complete_variant; }; }; } > $J/chain.log 2>&1 || { tail -5 $J/chain.log; return 1; }
+  local ref=$(ls -d $R/complete/Ref-*) var=$R/complete_variant variant=()
+  [ "$V" = none ] || variant=("Ref-$I-variant=$var/renders")
   python3 benchmarks/removal_score.py $S $R/removed --picture $D/${name}_judge.jpg > $D/${name}_judge.txt
   python3 benchmarks/ring_colour.py $R $S >> $D/${name}_judge.txt  # the patch's colour against the truth's ring
-  python3 benchmarks/hole_error.py $S removed=$R/removed/images "Ref-$I=$ref/renders" "Ref-$I-variant=$var/renders" \
+  python3 benchmarks/hole_error.py $S removed=$R/removed/images "Ref-$I=$ref/renders" "${variant[@]}" \
     --picture $D/${name}_hole_crops.png > $D/${name}_hole_error.txt
   cp $R/metrics.json $D/${name}_base_metrics.json; cp $R/removed/removal.json $D/${name}_removal.json
-  cp $R/holes/holes.json $D/${name}_holes.json; cp $R/holes_variant/holes.json $D/${name}_holes_variant.json
+  cp $R/holes/holes.json $D/${name}_holes.json
   cp $R/removed/sheet.png $D/${name}_removed_sheet.png; cp $R/holes/sheet.png $D/${name}_holes_sheet.png
-  cp $ref/scores.json $D/${name}_ref_scores.json; cp $var/scores.json $D/${name}_ref_variant_scores.json
-  cp $R/inpainted/$I/config.json $D/${name}_inpaint.json; cp $R/inpainted_variant/config.json $D/${name}_inpaint_variant.json
-  cp $R/inpainted/$I/sheet_test.png $D/${name}_inpainted.png; cp $R/inpainted_variant/sheet_test.png $D/${name}_inpainted_variant.png
+  cp $ref/scores.json $D/${name}_ref_scores.json
+  cp $R/inpainted/$I/config.json $D/${name}_inpaint.json; cp $R/inpainted/$I/sheet_test.png $D/${name}_inpainted.png
+  [ "$V" = none ] || { cp $R/holes_variant/holes.json $D/${name}_holes_variant.json
+    cp $var/scores.json $D/${name}_ref_variant_scores.json; cp $R/inpainted_variant/config.json $D/${name}_inpaint_variant.json
+    cp $R/inpainted_variant/sheet_test.png $D/${name}_inpainted_variant.png; }
   python3 benchmarks/leftovers.py $R $D/${name}_leftovers.json; cat $D/${name}_judge.txt $D/${name}_hole_error.txt
 }
 
