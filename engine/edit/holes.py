@@ -94,6 +94,7 @@ class HoleConfig:
     off_support_tol: float = 0.02  # with see_through, also pixels whose support is this far off its plane, x depth
     border: float = BORDER_SHARE  # also the band this wide (x image width) around a hole that the photos contradict
     border_levels: float = BORDER_LEVELS  # 8-bit levels a band pixel may differ from the photos' colour there
+    border_relit: bool = True  # the band may take pixels `remove` relit (the photos show them dark: no judge)
     device: str = "auto"  # where every pixel is tested against every training view (engine.io.visibility)
 
 
@@ -183,6 +184,8 @@ def run_holes(config: HoleConfig) -> dict:
                 border = wrong_border(camera, hole, rgb, rendered, train_cameras, photos, seen_surfaces,
                                       photo_occluders, config.rel_tol, near, band_px(camera.width, config.border),
                                       config.border_levels, device)
+                if not config.border_relit and removed.effects.mask(camera.name).is_file():
+                    border &= read_png(removed.effects.mask(camera.name), "mask", camera.size) == 0
                 hole = hole | border
             write_png(tmp.mask(camera.name), hole.astype(np.uint8) * 255)
             write_png(tmp.unseen(camera.name), unseen_hole.astype(np.uint8) * 255)
