@@ -71,3 +71,25 @@ def test_a_band_no_photo_saw_is_wrong_and_one_the_object_hid_in_every_photo_too(
                          width_px=3)
     ring = dilate(hole, 3) & ~hole
     assert wrong[ring].all()  # the whole band lies in the object's region, which its only photo hid
+
+
+def test_without_border_relit_the_band_takes_none_of_the_pixels_remove_relit(tiny_stages):
+    """The photos show the plush's shadow where `remove` relit the table, so by their colour the relit band is
+    wrong and the default fills it; with border_relit off those pixels stay as the fill's context. The masks
+    differ by relit pixels only, and by some (the flag does something here)."""
+    from engine.edit.holes import HoleConfig, run_holes
+    from engine.formats.layout import RemovedLayout
+    from engine.io.image_io import read_png
+
+    out = tiny_stages["work"] / "holes_kept_relit"
+    run_holes(HoleConfig(run=str(tiny_stages["run"]), removed=str(tiny_stages["removed"]), out=str(out),
+                         border_relit=False))
+    effects, dropped = RemovedLayout(tiny_stages["removed"]).effects, 0
+    for name in sorted(p.name for p in out.glob("*.png")):
+        default = read_png(tiny_stages["holes"] / name, "mask") > 0
+        kept = read_png(out / name, "mask") > 0
+        relit = read_png(effects.mask(name), "mask", default.shape[::-1]) > 0
+        assert not (kept & ~default).any(), name
+        assert not (default & ~kept & ~relit).any(), name
+        dropped += int((default & ~kept).sum())
+    assert dropped > 0
