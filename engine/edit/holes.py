@@ -33,8 +33,13 @@ under an overhang). The report scores the unseen part alone against the truth's 
 Then the band around each hole that the render gets wrong, as the training photos that saw it show
 (engine.edit.border: a remnant's edge, the contact shade relit in part), joins it (`border`, a share of the
 width): the inpainters read their colours from the hole's border, so a wrong border is filled rather than copied
-inwards, and a right one stays as their context. Optional: a margin around each view's object mask that hides
-too, and dilation of the result (LaMa wants larger masks; the paper dilates). Measured choices in
+inwards, and a right one stays as their context. The photos show the object's shadow where `remove` relit it,
+so they call every relit pixel wrong and the band takes the relit shadow beside the footprint; `border_relit` off
+leaves those pixels as context instead. That is not the default yet: on the hard-sun statue_s30 (GPU) the masks went
+from twice the true hole to IoU 0.77 and Ref-coherence in the true hole 20.97 -> 22.23 dB (unfilled 21.29), on tiny
+CPU statues +1.6 / +2.3 dB, but tiny livingroom_s8 -1.31 (below its unfilled hole: its relit ring is dark, and the
+fill copies it), tabletop -0.24 (docs/BENCHMARKS.md, "Hole masks"). Optional: a margin around each view's object
+mask that hides too, and dilation of the result (LaMa wants larger masks; the paper dilates). Measured choices in
 docs/BENCHMARKS.md.
 """
 
