@@ -18,7 +18,7 @@ from engine.base.device import pick_device
 from engine.capture.scene import Scene
 from engine.formats.layout import RemovedLayout
 from engine.io.image_io import read_png, write_png
-from engine.io.masks import dilate
+from engine.io.masks import dilate, optional_mask
 from engine.metrics.image_metrics import psnr_from_mse
 from engine.metrics.scores import Scorer, Scores, pixel_scores
 from engine.render.render_views import render_pictures
@@ -91,11 +91,8 @@ def _scores(scene: Scene, views: list[int], pictures: list[np.ndarray], scorer: 
 def _object_pixels(removed: RemovedLayout, scene: Scene, i: int) -> np.ndarray:
     """The removed object's region and its effects in view i, grown by OUTSIDE_MARGIN."""
     camera = scene.cameras[i]
-    region = np.zeros((camera.height, camera.width), bool)
-    for path in (removed.masks / camera.name, removed.effects.mask(camera.name)):
-        if path.is_file():
-            region |= read_png(path, "mask", camera.size) > 0
-    return dilate(region, OUTSIDE_MARGIN)
+    region = optional_mask(removed.masks / camera.name, camera.size)
+    return dilate(region | optional_mask(removed.effects.mask(camera.name), camera.size), OUTSIDE_MARGIN)
 
 
 def reference_free(renders: list[np.ndarray], photos: list[np.ndarray], outside: list[np.ndarray | None]) -> Scores:

@@ -70,7 +70,7 @@ from engine.edit.support_plane import (
 from engine.formats.cameras import Camera, backproject, mean_up, pixel_grid, project
 from engine.formats.layout import HolesLayout, RemovedLayout, RunLayout
 from engine.io.image_io import exr_name, read_depth, read_png, write_png
-from engine.io.masks import dilate
+from engine.io.masks import dilate, optional_mask
 from engine.io.visibility import DEFAULT_REL_TOL, Array, as_tensor, farthest_nearby, inside_visual_hull, unseen_mask
 from engine.metrics.image_metrics import mean_and_worst
 from engine.pictures.preview import label, overlay
@@ -189,8 +189,8 @@ def run_holes(config: HoleConfig) -> dict:
                 border = wrong_border(camera, hole, rgb, rendered, train_cameras, photos, seen_surfaces,
                                       photo_occluders, config.rel_tol, near, band_px(camera.width, config.border),
                                       config.border_levels, device)
-                if not config.border_relit and removed.effects.mask(camera.name).is_file():
-                    border &= read_png(removed.effects.mask(camera.name), "mask", camera.size) == 0
+                if not config.border_relit:
+                    border &= ~optional_mask(removed.effects.mask(camera.name), camera.size)
                 hole = hole | border
             write_png(tmp.mask(camera.name), hole.astype(np.uint8) * 255)
             write_png(tmp.unseen(camera.name), unseen_hole.astype(np.uint8) * 255)

@@ -42,7 +42,7 @@ from engine.formats.layout import HolesLayout, InpaintedLayout, RemovedLayout, R
 from engine.inpaint.keep import like_ring
 from engine.inpaint.registry import Inpainter, create
 from engine.io.image_io import exr_name, read_depth, read_png, write_depth, write_png
-from engine.io.masks import dilate
+from engine.io.masks import dilate, optional_mask
 from engine.metrics.image_metrics import mean_and_worst
 from engine.pictures.preview import colorize_depth, label, overlay
 from engine.train.trained_run import load_run_scene
@@ -289,8 +289,7 @@ def _direct_region(removed: RemovedLayout, name: str) -> np.ndarray:
     """What the direct baseline paints over in an input image: the object's region, and its shadow where
     `remove` relit one (removed/effects: the input images still show it; the other methods relit it in 3D)."""
     region = read_png(removed.masks / name, kind="mask") > 0
-    effects = removed.effects.mask(name)
-    return region | (read_png(effects, kind="mask") > 0) if effects.is_file() else region
+    return region | optional_mask(removed.effects.mask(name), region.shape[::-1])
 
 
 def _fill_hole(inpainter, dilation: int, prompt: str | None, image: np.ndarray, camera: Camera,

@@ -29,3 +29,9 @@ def dilate(mask: np.ndarray, pixels: int) -> np.ndarray:
 def read_masks(folder: Path, cameras: list[Camera], pixels: int = 0) -> dict[int, np.ndarray]:
     """Each view's mask PNG in `folder` (a stage's holes/ or masks/) as bool, grown by `pixels`."""
     return {i: dilate(read_png(folder / c.name, "mask", c.size) > 0, pixels) for i, c in enumerate(cameras)}
+
+
+def optional_mask(path: Path, size: tuple[int, int]) -> np.ndarray:
+    """The mask PNG at `path` as bool (H, W) for `size` (width, height), or no pixel where the stage wrote none
+    (`remove --no-effects` writes no removed/effects/ masks: nothing was relit)."""
+    return read_png(path, "mask", size) > 0 if Path(path).is_file() else np.zeros(size[::-1], bool)
