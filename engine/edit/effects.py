@@ -79,6 +79,12 @@ class EffectsConfig:
     # 0.5 -> 0.9: outside the true hole statue_s55 39.46 -> 39.56, tabletop_s8 26.61 -> 28.35, livingroom_s8 same
     # (none laid); Ref-coherence 25.16 -> 26.12, 26.21 -> 26.10, 24.56 -> 24.55 (docs/BENCHMARKS.md)
     unbuilt_cover: float = 0.9
+    # also a footprint cell the training views see through (their surface there under the plane: the floor under a
+    # table, a crater): underside.seen_through. Tiny CPU runs (statue_s30, s84, tabletop_s8, wallmount_s8,
+    # livingroom_s8): outside the true hole +0.57, +1.10, +0.02, +1.14, +0.17 dB; the unfilled true hole 17.37 ->
+    # 24.90, 17.57 -> 22.48, 19.39 -> 19.63, 28.85 -> 33.23, 26.99 -> 27.32 (decisions/cpu_tiny_runs.json,
+    # `patch_seen_through`)
+    patch_seen_through: bool = True
     # the support's colour round the object (the crater's and the patch's) from what the training views render of it
     # where whole (underside.SOLID), not from its Gaussians' base colours, which count the ones no view sees. GPU
     # judges at 4350d6a, base colours -> seen: the colour off gt/'s ring by at most 0.066 -> 0.031 (statue_s55), 0.060

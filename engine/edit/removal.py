@@ -95,6 +95,7 @@ class RemovalConfig:
     effects: bool = True  # also undo the object's shadow and darkening (relight them), write removed/effects
     contact_most: float = EffectsConfig.contact_most  # the darkening's largest gain (sRGB); 1 or less: not relit
     unbuilt_cover: float = EffectsConfig.unbuilt_cover  # support cover (alpha) under which a patch of it is laid
+    patch_seen_through: bool = EffectsConfig.patch_seen_through  # a patch also where the training views see through
     seen_colour: bool = EffectsConfig.seen_colour  # the patch's colour from the views' renders of the support round it
     soft_edge: bool = EffectsConfig.soft_edge  # relight the cast shadow's penumbra by how dark it is, not all or none
     out: str = ""  # default RUN/removed
@@ -203,6 +204,7 @@ def run_removal(config: RemovalConfig) -> dict:
         remaining, after, effects = _undo_effects(run, remaining, core, plane, regions, after, device, others,
                                                   EffectsConfig(contact_most=config.contact_most,
                                                                 unbuilt_cover=config.unbuilt_cover,
+                                                                patch_seen_through=config.patch_seen_through,
                                                                 seen_colour=config.seen_colour,
                                                                 soft_edge=config.soft_edge))
         # last: the support the object hid from many views loses the view-dependence it guessed there (before
@@ -349,7 +351,10 @@ def undo_darkening(run: TrainedRun, remaining, core: np.ndarray, plane, regions:
     underside = find_underside(remaining, core, plane, config, others, shown)
     if underside is not None:
         remaining = paint(remaining, underside)
-    patch = find_unbuilt(remaining, core, plane, config, others, shown)
+    train = run.scene.train  # and where the training views see through the support: their depth
+    views = ([run.scene.cameras[i] for i in train], [after[i].depth for i in train]) \
+        if config.patch_seen_through else None
+    patch = find_unbuilt(remaining, core, plane, config, others, shown, views)
     if patch is not None:  # last in the scene; it moves surfaces, so every view with its depth
         remaining = concat(remaining, patch)
         after = list(render_pictures(remaining, run.scene.cameras, run.sh_degree, device))

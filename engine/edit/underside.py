@@ -21,7 +21,9 @@ it off gt/'s ring by up to 0.154 (a pink patch on a wall) where the views' colou
 Where the views built no support at all under the object (a toy on a cloth: the cloth under it was hidden in most
 views, so after removal the render sees through to the table below), a patch is laid (`find_unbuilt`): one flat
 Gaussian of the same colour on the plane in each cell of the object's footprint that the support's Gaussians cover
-less than `unbuilt_cover` (0.9), so every view shows the support there rather than what lies beneath it.
+less than `unbuilt_cover` (0.9), so every view shows the support there rather than what lies beneath it; and
+where the support was built but the training views see through it (`seen_through`: gaps between large Gaussians
+from the side, the floor under a table showing as a dark disc where a ball stood).
 """
 
 from __future__ import annotations
@@ -35,8 +37,11 @@ import torch
 from engine.base.knn import knn
 from engine.edit.effects import LUMA, EffectsConfig, Samples, colors_of, darker_share, support_only, trimmed_mean
 from engine.edit.plane_grid import Site
+from engine.formats.cameras import Camera, backproject, project, sample_nearest
 from engine.formats.splat_ply import SH_C0
 from engine.io.gaussians import PARAM_NAMES, Gaussians
+
+Views = tuple[list[Camera], list[np.ndarray]]  # cameras and the depth each renders
 
 RING = (1.0, 1.5)  # x the footprint's radius: the support whose colour the underside takes
 OFF_PLANE = 0.02  # x the footprint's radius: off the plane by more than this, the support was built from grazing views
@@ -45,6 +50,9 @@ LAID_OPACITY = 0.95  # the patch's Gaussians
 SOLID = 0.9  # a rendered pixel this opaque (3 px from any less) shows the support whole, not a faint rim over black
 SEEN_BAND = 0.1  # x the footprint's radius: a view's surface point this near the plane shows the support
 MIN_SEEN = 200  # the views' ring samples, for its colour (fewer: the Gaussians' base colours)
+# a footprint cell whose rendered surface lies more than SEEN_BAND x the radius under the plane in at least this share
+# of the training views that see it is seen through (find_unbuilt)
+THROUGH_SHARE = 0.5
 
 
 @dataclass
@@ -120,13 +128,14 @@ def in_ring(height: np.ndarray, across: np.ndarray, radius: float) -> np.ndarray
 
 def find_unbuilt(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray, float] | None,
                  config: EffectsConfig, others: np.ndarray | None = None,
-                 shown: Samples | None = None) -> Gaussians | None:
+                 shown: Samples | None = None, views: Views | None = None) -> Gaussians | None:
     """A patch for the support never built under the object: one flat Gaussian on the plane, in the support's
     colour around, per cell of the object's footprint (seen from straight above) that the support's Gaussians
-    cover with less than `config.unbuilt_cover` opacity; None where every cell is covered, or as find_underside.
-    Each takes the identity of the support Gaussian nearest it. Why: removal otherwise shows what lies under the support
-    there (a tiny CPU tabletop of seed 90: the table's wood through the cloth; removal outside the true hole
-    26.56 -> 28.25 dB, the unfilled hole 15.19 -> 22.93, Ref-telea 23.17 -> 23.97)."""
+    cover with less than `config.unbuilt_cover` opacity, or, given the training `views` (cameras and the depth they
+    render of `remaining`), that they see through (seen_through); None where every cell is covered, or as
+    find_underside. Each takes the identity of the support Gaussian nearest it. Why: removal otherwise shows what lies
+    under the support there (a tiny CPU tabletop of seed 90: the table's wood through the cloth; removal outside the
+    true hole 26.56 -> 28.25 dB, the unfilled hole 15.19 -> 22.93, Ref-telea 23.17 -> 23.97)."""
     if plane is None or len(obj) < 20 or config.underside_reach <= 0:
         return None
     site = Site.of(obj, plane)
@@ -137,10 +146,35 @@ def find_unbuilt(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray,
     cells = np.argwhere(grid.raster(frame.flat(obj), site.spacing))
     centres = grid.origin + (cells + 0.5) * grid.cell
     bare = _cover(remaining, band, frame.flat, centres, grid.cell) < config.unbuilt_cover
+    points = centres[:, :1] * frame.a + centres[:, 1:] * frame.b - frame.d * frame.n
+    if views is not None:
+        bare |= seen_through(site, points, *views) >= THROUGH_SHARE
     if not bare.any():
         return None
-    points = centres[bare, :1] * frame.a + centres[bare, 1:] * frame.b - frame.d * frame.n
-    return _flat_patch(remaining, points, frame, grid.cell, colour, band)
+    return _flat_patch(remaining, points[bare], frame, grid.cell, colour, band)
+
+
+def seen_through(site: Site, points: np.ndarray, cameras: list[Camera], depths: list[np.ndarray]) -> np.ndarray:
+    """(C,) for `points` on the plane, the share of the `cameras` seeing each (in frame, in front, not hidden by a
+    surface standing over the plane) whose rendered surface there (`depths`) lies more than SEEN_BAND x the footprint's
+    radius under the plane; 0 where none sees it. Why views and not the cover from above (_cover): the support under
+    a ball is built of large Gaussians, part of them well under the plane, that cover every cell seen from above and
+    still leave gaps between them from the side; the views see the floor under the table through them, a dark disc
+    in every view (tiny CPU livingroom_s8: removed 11-19 levels under gt/ within 0.8 footprint radii, a fifth of that
+    from the floor; the GPU's livingroom_s8 laid no patch at all, its disc stayed)."""
+    tol = SEEN_BAND * site.radius
+    under = np.zeros(len(points))
+    seeing = np.zeros(len(points))
+    for camera, depth in zip(cameras, depths, strict=True):
+        u, v, z = project(camera, points)
+        rendered, inside = sample_nearest(depth, u, v)
+        ok = inside & (z > 0) & np.isfinite(rendered) & (rendered > 0)
+        height = np.full(len(points), np.inf)
+        height[ok] = site.frame.height(backproject(camera, u[ok], v[ok], rendered[ok]))
+        ok &= height < tol  # nothing of another surface in front
+        seeing += ok
+        under += ok & (height < -tol)
+    return np.where(seeing > 0, under / np.maximum(seeing, 1), 0.0)
 
 
 def _cover(remaining: Gaussians, band: np.ndarray, flat, centres: np.ndarray, cell: float) -> np.ndarray:

@@ -13,6 +13,7 @@ import torch
 from engine.edit.effects import DETACHED, EffectsConfig, Samples, colors_of, find_shadow, relight
 from engine.edit.plane_grid import PlaneFrame
 from engine.edit.support_plane import object_core, object_support
+from engine.formats.cameras import Camera, pixel_grid
 from engine.io.image_io import linear_to_srgb, srgb_to_linear
 from tests.gaussian_grids import SPACING, gaussians
 
@@ -530,6 +531,52 @@ def test_the_support_left_part_transparent_under_the_object_gets_a_patch_only_ab
     laid = {k: torch.cat([built[k], patch[k]]) for k in built}
     cover = _cover(laid, np.ones(len(laid["means"]), bool), lambda p: p[:, :2], floor[under, :2], 0.01)
     assert np.median(cover) >= 0.9
+
+
+def looking_down_at_origin(position: np.ndarray, size: int = 96) -> Camera:
+    """A camera at `position` looking at the origin, +z up: its rows are right, down and forward."""
+    forward = -position / np.linalg.norm(position)
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    rotation = np.stack([right, np.cross(forward, right), forward])
+    return Camera(name="v.png", width=size, height=size, fx=size, fy=size, cx=size / 2, cy=size / 2, R=rotation,
+                  t=-rotation @ position)
+
+
+def depth_through(camera: Camera, through: np.ndarray) -> np.ndarray:
+    """(H, W) z-depth of shadow_scene's floor (z = 0) seen by `camera`, except where the ray meets it inside the box
+    `through` (x0, x1, y0, y1): there it goes on to the room's floor at z = -0.5, as a view sees through a support
+    built with gaps."""
+    u, v = pixel_grid(camera)
+    rays = np.stack([(u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy, np.ones_like(u)], -1) @ camera.R
+    centre = -camera.R.T @ camera.t
+    hit = centre + rays * (-centre[2] / rays[..., 2])[..., None]  # z-depth 1 a ray step: the step is the depth
+    inside = ((hit[..., 0] > through[0]) & (hit[..., 0] < through[1]) & (hit[..., 1] > through[2])
+              & (hit[..., 1] < through[3]))
+    return np.where(inside, (-0.5 - centre[2]) / rays[..., 2], -centre[2] / rays[..., 2])
+
+
+def test_a_support_the_views_see_through_gets_a_patch_though_its_cover_from_above_is_whole():
+    """The floor is built everywhere (its cover from above is whole), but under one half of the box the views see
+    through it to a floor 0.5 below (a table's top built of large Gaussians with gaps between them from the side: a
+    dark disc where a ball stood). Given the training views' depth (`remove --patch-seen-through`, the default) a
+    patch is laid over that half only; from the Gaussians alone, none."""
+    from engine.edit.underside import find_unbuilt
+
+    floor, lit, seen, truth, box = shadow_scene(sun(30), darken=1.0)
+    built = gaussians(floor, seen)
+    up = np.array([0.0, 0.0, 1.0])
+    core = object_core(gaussians(box, np.full((len(box), 3), 0.9)), up)
+    plane = object_support(floor, core, up)
+    cameras = [looking_down_at_origin(np.array([2.0 * np.cos(a), 2.0 * np.sin(a), 1.5]))
+               for a in np.linspace(0.0, 2.0 * np.pi, 8, endpoint=False)]
+    depths = [depth_through(camera, np.array([-0.15, 0.0, -0.15, 0.15])) for camera in cameras]
+    assert find_unbuilt(built, core, plane, EffectsConfig()) is None
+    patch = find_unbuilt(built, core, plane, EffectsConfig(), views=(cameras, depths))
+    assert patch is not None
+    assert np.abs(patch["means"][:, 2].numpy()).max() < 1e-3  # on the floor's plane
+    assert patch["means"][:, 0].max() < 0.05  # over the half seen through, within a cell of its edge
+    assert EffectsConfig().patch_seen_through  # `remove` gives it the views unless told --no-patch-seen-through
 
 
 def test_given_the_views_the_patch_takes_the_colour_they_show_round_the_object_not_that_of_gaussians_none_sees():
