@@ -34,11 +34,12 @@ Then the band around each hole that the render gets wrong, as the training photo
 (engine.edit.border: a remnant's edge, the contact shade relit in part), joins it (`border`, a share of the
 width): the inpainters read their colours from the hole's border, so a wrong border is filled rather than copied
 inwards, and a right one stays as their context. The photos show the object's shadow where `remove` relit it,
-so they call every relit pixel wrong and the band takes the relit shadow beside the footprint; `border_relit` off
-leaves those pixels as context instead. That is not the default yet: on the hard-sun statue_s30 (GPU) the masks went
-from twice the true hole to IoU 0.77 and Ref-coherence in the true hole 20.97 -> 22.23 dB (unfilled 21.29), on tiny
-CPU statues +1.6 / +2.3 dB, but tiny livingroom_s8 -1.31 (below its unfilled hole: its relit ring is dark, and the
-fill copies it), tabletop -0.24 (docs/BENCHMARKS.md, "Hole masks"). Optional: a margin around each view's object
+so they would call every relit pixel wrong and the band would take the relit shadow beside the footprint; by
+default (`border_relit` off) those pixels stay as context. On the hard-sun statue_s30 (GPU) the masks went from
+twice the true hole to IoU 0.77 and Ref-coherence in the true hole 20.97 -> 22.23 dB (unfilled 21.29); with
+remove's patch where the views see through the support, tiny CPU statues +1.19 / +1.32 dB, livingroom_s11 +0.73,
+wallmount even, tabletop -0.31, livingroom_s8 -0.20 (without that patch -1.31: its relit ring was dark and the fill
+copied it; docs/BENCHMARKS.md, "Hole masks"). Optional: a margin around each view's object
 mask that hides too, and dilation of the result (LaMa wants larger masks; the paper dilates). Measured choices in
 docs/BENCHMARKS.md.
 """
@@ -99,7 +100,7 @@ class HoleConfig:
     off_support_tol: float = 0.02  # with see_through, also pixels whose support is this far off its plane, x depth
     border: float = BORDER_SHARE  # also the band this wide (x image width) around a hole that the photos contradict
     border_levels: float = BORDER_LEVELS  # 8-bit levels a band pixel may differ from the photos' colour there
-    border_relit: bool = True  # the band may take pixels `remove` relit (the photos show them dark: no judge)
+    border_relit: bool = False  # the band may take pixels `remove` relit (the photos show them dark: no judge)
     device: str = "auto"  # where every pixel is tested against every training view (engine.io.visibility)
 
 

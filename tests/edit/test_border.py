@@ -75,21 +75,24 @@ def test_a_band_no_photo_saw_is_wrong_and_one_the_object_hid_in_every_photo_too(
 
 def test_without_border_relit_the_band_takes_none_of_the_pixels_remove_relit(tiny_stages):
     """The photos show the plush's shadow where `remove` relit the table, so by their colour the relit band is
-    wrong and the default fills it; with border_relit off those pixels stay as the fill's context. The masks
-    differ by relit pixels only, and by some (the flag does something here)."""
+    wrong, and with `--border-relit` the band fills it; without (the default) those pixels stay as the fill's
+    context. The masks differ by relit pixels only, and by some (the flag does something here)."""
     from engine.edit.holes import HoleConfig, run_holes
     from engine.formats.layout import RemovedLayout
     from engine.io.image_io import read_png
 
-    out = tiny_stages["work"] / "holes_kept_relit"
-    run_holes(HoleConfig(run=str(tiny_stages["run"]), removed=str(tiny_stages["removed"]), out=str(out),
-                         border_relit=False))
+    masks = {}
+    for relit in (True, False):
+        masks[relit] = tiny_stages["work"] / f"holes_border_relit_{relit}"
+        run_holes(HoleConfig(run=str(tiny_stages["run"]), removed=str(tiny_stages["removed"]), out=str(masks[relit]),
+                             border_relit=relit))
+    assert not HoleConfig().border_relit
     effects, dropped = RemovedLayout(tiny_stages["removed"]).effects, 0
-    for name in sorted(p.name for p in out.glob("*.png")):
-        default = read_png(tiny_stages["holes"] / name, "mask") > 0
-        kept = read_png(out / name, "mask") > 0
-        relit = read_png(effects.mask(name), "mask", default.shape[::-1]) > 0
-        assert not (kept & ~default).any(), name
-        assert not (default & ~kept & ~relit).any(), name
-        dropped += int((default & ~kept).sum())
+    for name in sorted(p.name for p in masks[False].glob("*.png")):
+        taken = read_png(masks[True] / name, "mask") > 0
+        kept = read_png(masks[False] / name, "mask") > 0
+        relit = read_png(effects.mask(name), "mask", taken.shape[::-1]) > 0
+        assert not (kept & ~taken).any(), name
+        assert not (taken & ~kept & ~relit).any(), name
+        dropped += int((taken & ~kept).sum())
     assert dropped > 0
