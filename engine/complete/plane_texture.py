@@ -50,8 +50,7 @@ class TextureGrid:
         """(size * size, 3) world points of the cells' centres, row by row."""
         steps = (np.arange(self.size) + 0.5) * self.cell
         jj, ii = np.meshgrid(steps + self.origin[0], steps + self.origin[1])
-        on_plane = -self.frame.d * self.frame.n
-        return on_plane + jj.reshape(-1, 1) * self.frame.a + ii.reshape(-1, 1) * self.frame.b
+        return self.frame.point(np.stack([jj.reshape(-1), ii.reshape(-1)], axis=1))
 
     @property
     def plane(self) -> tuple[np.ndarray, float]:

@@ -41,6 +41,10 @@ class PlaneFrame:
         """(N, 2) in-plane coordinates straight below `p`."""
         return np.stack([p @ self.a, p @ self.b], axis=1)
 
+    def point(self, flat: np.ndarray) -> np.ndarray:
+        """(N, 3) world points on the plane at in-plane coordinates `flat` (N, 2): `flat`'s inverse there."""
+        return flat[:, :1] * self.a + flat[:, 1:] * self.b - self.d * self.n
+
     def light(self, elevation: float, azimuth: float) -> np.ndarray:
         el, az = math.radians(elevation), math.radians(azimuth)
         return math.cos(el) * (math.cos(az) * self.a + math.sin(az) * self.b) + math.sin(el) * self.n

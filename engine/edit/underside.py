@@ -146,7 +146,7 @@ def find_unbuilt(remaining: Gaussians, obj: np.ndarray, plane: tuple[np.ndarray,
     cells = np.argwhere(grid.raster(frame.flat(obj), site.spacing))
     centres = grid.origin + (cells + 0.5) * grid.cell
     bare = _cover(remaining, band, frame.flat, centres, grid.cell) < config.unbuilt_cover
-    points = centres[:, :1] * frame.a + centres[:, 1:] * frame.b - frame.d * frame.n
+    points = frame.point(centres)
     if views is not None:
         bare |= seen_through(site, points, *views) >= THROUGH_SHARE
     if not bare.any():
